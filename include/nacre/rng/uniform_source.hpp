@@ -1,0 +1,67 @@
+#pragma once
+/// \file
+/// \brief The generator interface of nacre: reproducible uniforms keyed by (seed, stream, draw).
+///
+/// Every Monte Carlo trial needs four uniforms (dx, dy, dtheta, acceptance). A source fills a
+/// table of them for a batch of streams (one stream per brick, keyed by the brick's original id,
+/// so the numbers do not depend on storage order, colouring, thread count or backend) at one
+/// draw index (the global cycle number). Batching lets table-free generators such as bitsliced
+/// AES work on many blocks at once; it also makes the RNG a separately timed phase (Fig. 2.12).
+#include <nacre/core/types.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace nacre::rng {
+
+/// \brief u(i, 0..3): four uniforms for stream i. LayoutLeft: column j is contiguous, so thread i
+/// and thread i+1 read adjacent doubles (coalesced on GPUs, unit stride for CPU vector lanes).
+template <class MS = MemSpace>
+using UniformTable = Kokkos::View<double* [4], Kokkos::LayoutLeft, MS>;
+
+/// \brief Stream ids of a batch (e.g. original brick ids in colour order).
+template <class MS = MemSpace>
+using StreamIds = Kokkos::View<const std::uint64_t*, MS>;
+
+/// \brief Exact, unbiased map of 64 random bits to a double in [0, 1): the top 53 bits times
+/// 2^-53 hit each of the 2^53 equally spaced values with equal probability.
+KOKKOS_INLINE_FUNCTION double to_unit_double(std::uint64_t bits) {
+  return static_cast<double>(bits >> 11) * 0x1.0p-53;
+}
+
+/// \brief Host-side handle of a generator. (Virtual dispatch happens once per batch, on the host;
+/// kernels only see the concrete generator.)
+class UniformSource {
+public:
+  virtual ~UniformSource() = default;
+  /// \brief Name used in decks and outputs ("philox", "aes-ctr", "mt-aes").
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// \brief Fill u(i, 0..3) with the uniforms of stream streams(i) at draw index `draw`.
+  /// Sources may be stateful (mt-aes) and then require draws to be requested in increasing order
+  /// (a repeated draw index is answered identically).
+  virtual void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
+};
+
+/// \brief Generators selectable in a deck (solver.rng).
+[[nodiscard]] std::unique_ptr<UniformSource> make_uniform_source(std::string_view kind,
+                                                                 std::uint64_t seed);
+/// \brief True when `kind` names a generator make_uniform_source knows.
+[[nodiscard]] bool is_uniform_source_kind(std::string_view kind);
+/// \brief Comma-separated list of the generator names (for error messages and docs).
+[[nodiscard]] std::string uniform_source_kinds();
+
+/// \brief Philox4x32-10: key = seed, counter = (stream, 2*draw + half); each 128-bit block gives
+/// two doubles from its two 64-bit halves.
+class PhiloxSource final : public UniformSource {
+public:
+  explicit PhiloxSource(std::uint64_t seed) : seed_(seed) {}
+  [[nodiscard]] std::string name() const override { return "philox"; }
+  void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
+
+private:
+  std::uint64_t seed_;
+};
+
+}  // namespace nacre::rng

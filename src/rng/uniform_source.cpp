@@ -1,0 +1,57 @@
+#include <nacre/rng/philox.hpp>
+#include <nacre/rng/uniform_source.hpp>
+#include <nacre/aes/aes_sources.hpp>
+
+#include <stdexcept>
+
+namespace nacre::rng {
+
+void PhiloxSource::fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
+  Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
+  const std::uint32_t k0 = static_cast<std::uint32_t>(seed_);
+  const std::uint32_t k1 = static_cast<std::uint32_t>(seed_ >> 32);
+  Kokkos::parallel_for(
+      "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecSpace>(0, streams.extent(0)),
+      KOKKOS_LAMBDA(const std::size_t i) {
+        const std::uint64_t s = streams(i);
+        for (int half = 0; half < 2; ++half) {
+          const std::uint64_t c = 2 * draw + static_cast<std::uint64_t>(half);
+          const Block128 ctr{{static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(s >> 32),
+                              static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32)}};
+          const Block128 r = philox4x32_10(ctr, k0, k1);
+          u(i, 2 * half + 0) = to_unit_double((std::uint64_t(r.w[1]) << 32) | r.w[0]);
+          u(i, 2 * half + 1) = to_unit_double((std::uint64_t(r.w[3]) << 32) | r.w[2]);
+        }
+      });
+}
+
+namespace {
+constexpr std::string_view kKinds[] = {"philox", "aes-ctr", "mt-aes"};
+}
+
+bool is_uniform_source_kind(std::string_view kind) {
+  for (auto k : kKinds)
+    if (k == kind) return true;
+  return false;
+}
+
+std::string uniform_source_kinds() {
+  std::string s;
+  for (auto k : kKinds) {
+    if (!s.empty()) s += ", ";
+    s += '"';
+    s += k;
+    s += '"';
+  }
+  return s;
+}
+
+std::unique_ptr<UniformSource> make_uniform_source(std::string_view kind, std::uint64_t seed) {
+  if (kind == "philox") return std::make_unique<PhiloxSource>(seed);
+  if (kind == "aes-ctr") return aes::make_aes_ctr_source(seed);
+  if (kind == "mt-aes") return aes::make_mt_aes_source(seed);
+  throw std::invalid_argument("unknown random generator '" + std::string(kind) +
+                              "', expected one of " + uniform_source_kinds());
+}
+
+}  // namespace nacre::rng

@@ -1,0 +1,16 @@
+// Catch2 main for every nacre test: Kokkos is initialised once per test process, and any
+// --kokkos-* arguments (e.g. --kokkos-num-threads=2) reach Kokkos, not Catch2.
+#include <catch2/catch_session.hpp>
+#include <Kokkos_Core.hpp>
+
+#include <string_view>
+#include <vector>
+
+int main(int argc, char* argv[]) {
+  std::vector<char*> kokkos_args{argv[0]}, catch_args{argv[0]};
+  for (int i = 1; i < argc; ++i)
+    (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : catch_args).push_back(argv[i]);
+  int kargc = static_cast<int>(kokkos_args.size());
+  Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
+  return Catch::Session().run(static_cast<int>(catch_args.size()), catch_args.data());
+}
