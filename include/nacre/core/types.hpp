@@ -2,6 +2,7 @@
 /// \file
 /// \brief Execution/memory spaces and View aliases shared by every area of nacre.
 #include <Kokkos_Core.hpp>
+#include <Kokkos_Profiling_ScopedRegion.hpp>
 #include <cstdint>
 
 namespace nacre {

@@ -1,0 +1,546 @@
+#pragma once
+/// \file
+/// \brief The per-thread core of nacre's bitsliced, constant-time AES-128 (FIPS-197).
+///
+/// Everything here is a KOKKOS_INLINE_FUNCTION working on plain arrays, so one source serves the
+/// Kokkos kernels (aes/bitsliced_kernel.hpp), the host and the valgrind constant-time check
+/// (tests/aes/ct_check.cpp), which calls these functions directly.
+///
+/// Layout ("full" bitslicing). A bitsliced word W holds one bit of many blocks: the state of
+/// kBlocks<W> blocks is 128 words, word k = 8*byte + bit holding bit `bit` (LSB = 0) of state
+/// byte `byte` (FIPS-197 order: byte = row + 4*column) of every block, one block per bit of W.
+/// Consequences:
+///   * SubBytes is the Boyar–Peralta Boolean circuit (113 gates: 32 AND, 77 XOR, 4 XNOR) applied
+///     to the 8 words of each byte position, 16 times per round;
+///   * ShiftRows is a renaming of words (no instruction at all);
+///   * MixColumns is XORs only (xtime of a bitsliced byte is a renaming plus 3 XORs);
+///   * AddRoundKey XORs each word with an all-ones or all-zero mask (one per round-key bit).
+/// There are no table look-ups, no branches and no addresses that depend on the key or the data;
+/// every loop bound and index is a compile-time constant. The price is the transposition of the
+/// blocks into and out of bitsliced form (a log-depth SWAPMOVE network, also constant time).
+///
+/// Word choice (compile-time, see HostWord and ExecWord in bitsliced_kernel.hpp):
+///   * CPU: a GCC/Clang vector-extension word as wide as the widest SIMD register the build
+///     targets (512 bits with AVX-512: 512 blocks per thread; 256 with AVX2; 128 otherwise). The
+///     128-word state then lives in L1 (16 KiB with the round buffer), every gate of the circuit
+///     is one SIMD instruction over 512 blocks, and GCC fuses XOR/AND chains into vpternlogq.
+///     Kasper–Schwabe's byte-sliced layout (8 blocks per 8 x 128-bit registers) needs pshufb for
+///     ShiftRows and rotations for MixColumns, which do not widen portably; full bitslicing
+///     needs only AND/XOR/NOT/shift, so it widens to any vector length without changes.
+///   * GPU: 32-bit words (32 blocks per thread, 128 registers of state): GPU registers are 32-bit,
+///     so the dissertation's 8 x 64-bit words cost every gate twice (its "117 x 2"); with 32
+///     blocks per thread each gate is one 32-bit LOP3-able instruction and ShiftRows needs no
+///     prmt byte permutes at all. (CUDA/HIP/SYCL device code never sees vector extensions.)
+#include <Kokkos_Core.hpp>
+
+#include <cstdint>
+
+// Device compilers (and their host passes) get plain integer words only.
+#if defined(__CUDACC__) || defined(__HIPCC__) || defined(__SYCL_DEVICE_ONLY__) || \
+    defined(KOKKOS_ENABLE_SYCL) || defined(KOKKOS_ENABLE_OPENMPTARGET)
+#ifndef NACRE_AES_NO_VECTOR_EXT
+#define NACRE_AES_NO_VECTOR_EXT 1
+#endif
+#endif
+#if !defined(NACRE_AES_NO_VECTOR_EXT) && (defined(__GNUC__) || defined(__clang__))
+#define NACRE_AES_HAVE_VECTOR_EXT 1
+#endif
+
+#if defined(__CUDACC__) || defined(__HIPCC__) || defined(__clang__)
+#define NACRE_AES_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define NACRE_AES_UNROLL _Pragma("GCC unroll 128")
+#else
+#define NACRE_AES_UNROLL
+#endif
+
+namespace nacre::aes {
+
+/// \brief An AES-128 key (16 bytes, FIPS-197 byte order).
+struct Key128 {
+  std::uint8_t bytes[16];
+};
+
+/// \brief The 11 expanded round keys (FIPS-197 §5.2), round r in bytes[r].
+struct RoundKeys {
+  std::uint8_t bytes[11][16];
+};
+
+namespace bitslice {
+
+// ---------------------------------------------------------------------------------------------
+// Words
+// ---------------------------------------------------------------------------------------------
+
+#ifdef NACRE_AES_HAVE_VECTOR_EXT
+typedef std::uint64_t u64x2 __attribute__((vector_size(16)));
+typedef std::uint64_t u64x4 __attribute__((vector_size(32)));
+typedef std::uint64_t u64x8 __attribute__((vector_size(64)));
+#endif
+
+/// \brief lane: the integer type one block-row of the transposition is made of; lanes: how many
+/// of them a word holds. A word holds lanes * lane_bits blocks; block j*lanes + l sits in bit j of
+/// lane l (so the `lanes` blocks of one transposition row are adjacent in memory).
+template <class W>
+struct WordTraits;
+
+template <>
+struct WordTraits<std::uint32_t> {
+  using lane = std::uint32_t;
+  static constexpr int lanes = 1;
+  static constexpr int lane_bits = 32;
+  static constexpr const char* name = "uint32";
+  KOKKOS_INLINE_FUNCTION static lane get(const std::uint32_t& w, int) { return w; }
+  KOKKOS_INLINE_FUNCTION static void set(std::uint32_t& w, int, lane v) { w = v; }
+};
+
+template <>
+struct WordTraits<std::uint64_t> {
+  using lane = std::uint64_t;
+  static constexpr int lanes = 1;
+  static constexpr int lane_bits = 64;
+  static constexpr const char* name = "uint64";
+  KOKKOS_INLINE_FUNCTION static lane get(const std::uint64_t& w, int) { return w; }
+  KOKKOS_INLINE_FUNCTION static void set(std::uint64_t& w, int, lane v) { w = v; }
+};
+
+#ifdef NACRE_AES_HAVE_VECTOR_EXT
+template <>
+struct WordTraits<u64x2> {
+  using lane = std::uint64_t;
+  static constexpr int lanes = 2;
+  static constexpr int lane_bits = 64;
+  static constexpr const char* name = "u64x2 (128-bit vector extension)";
+  static lane get(const u64x2& w, int l) { return w[l]; }
+  static void set(u64x2& w, int l, lane v) { w[l] = v; }
+};
+template <>
+struct WordTraits<u64x4> {
+  using lane = std::uint64_t;
+  static constexpr int lanes = 4;
+  static constexpr int lane_bits = 64;
+  static constexpr const char* name = "u64x4 (256-bit vector extension)";
+  static lane get(const u64x4& w, int l) { return w[l]; }
+  static void set(u64x4& w, int l, lane v) { w[l] = v; }
+};
+template <>
+struct WordTraits<u64x8> {
+  using lane = std::uint64_t;
+  static constexpr int lanes = 8;
+  static constexpr int lane_bits = 64;
+  static constexpr const char* name = "u64x8 (512-bit vector extension)";
+  static lane get(const u64x8& w, int l) { return w[l]; }
+  static void set(u64x8& w, int l, lane v) { w[l] = v; }
+};
+#endif
+
+/// \brief Blocks processed by one thread holding one bitsliced state of words W.
+template <class W>
+inline constexpr int kBlocks = WordTraits<W>::lanes * WordTraits<W>::lane_bits;
+/// \brief Lanes per 16-byte block.
+template <class W>
+inline constexpr int kLanesPerBlock = 128 / WordTraits<W>::lane_bits;
+/// \brief Round-key masks: one lane-wide all-ones/all-zero mask per bit of the 11 round keys.
+inline constexpr int kMaskCount = 11 * 128;
+
+/// \brief The host word for this build: as wide as the widest SIMD register targeted (see above;
+/// override with -DNACRE_AES_HOST_WORD_BITS=64/128/256/512).
+#if defined(NACRE_AES_HAVE_VECTOR_EXT)
+#if defined(NACRE_AES_HOST_WORD_BITS)
+#if NACRE_AES_HOST_WORD_BITS == 512
+using HostWord = u64x8;
+#elif NACRE_AES_HOST_WORD_BITS == 256
+using HostWord = u64x4;
+#elif NACRE_AES_HOST_WORD_BITS == 128
+using HostWord = u64x2;
+#else
+using HostWord = std::uint64_t;
+#endif
+#elif defined(__AVX512F__)
+using HostWord = u64x8;
+#elif defined(__AVX__)
+using HostWord = u64x4;
+#else
+using HostWord = u64x2;
+#endif
+#else
+using HostWord = std::uint64_t;
+#endif
+
+// ---------------------------------------------------------------------------------------------
+// SubBytes: Boyar–Peralta circuit
+// ---------------------------------------------------------------------------------------------
+
+/// \brief The AES S-box on 8 bitsliced words, q[0] = least significant bit ... q[7] = most.
+///
+/// Circuit: J. Boyar and R. Peralta, "A new combinational logic minimization technique with
+/// applications to cryptology", SEA 2010 / IACR ePrint 2009/191 (113 gates: top linear layer,
+/// the shared GF(2^4) inversion core with 32 ANDs, bottom linear layer), in the transcription
+/// used by BearSSL's constant-time AES (aes_ct.c): there x0 is the most significant input bit and
+/// s0 the most significant output bit. Verified exhaustively against the S-box in the tests.
+template <class W>
+KOKKOS_INLINE_FUNCTION void sbox(W* q) {
+  const W x0 = q[7], x1 = q[6], x2 = q[5], x3 = q[4], x4 = q[3], x5 = q[2], x6 = q[1], x7 = q[0];
+
+  // Top linear transformation.
+  const W y14 = x3 ^ x5;
+  const W y13 = x0 ^ x6;
+  const W y9 = x0 ^ x3;
+  const W y8 = x0 ^ x5;
+  const W t0 = x1 ^ x2;
+  const W y1 = t0 ^ x7;
+  const W y4 = y1 ^ x3;
+  const W y12 = y13 ^ y14;
+  const W y2 = y1 ^ x0;
+  const W y5 = y1 ^ x6;
+  const W y3 = y5 ^ y8;
+  const W t1 = x4 ^ y12;
+  const W y15 = t1 ^ x5;
+  const W y20 = t1 ^ x1;
+  const W y6 = y15 ^ x7;
+  const W y10 = y15 ^ t0;
+  const W y11 = y20 ^ y9;
+  const W y7 = x7 ^ y11;
+  const W y17 = y10 ^ y11;
+  const W y19 = y10 ^ y8;
+  const W y16 = t0 ^ y11;
+  const W y21 = y13 ^ y16;
+  const W y18 = x0 ^ y16;
+
+  // Non-linear section.
+  const W t2 = y12 & y15;
+  const W t3 = y3 & y6;
+  const W t4 = t3 ^ t2;
+  const W t5 = y4 & x7;
+  const W t6 = t5 ^ t2;
+  const W t7 = y13 & y16;
+  const W t8 = y5 & y1;
+  const W t9 = t8 ^ t7;
+  const W t10 = y2 & y7;
+  const W t11 = t10 ^ t7;
+  const W t12 = y9 & y11;
+  const W t13 = y14 & y17;
+  const W t14 = t13 ^ t12;
+  const W t15 = y8 & y10;
+  const W t16 = t15 ^ t12;
+  const W t17 = t4 ^ t14;
+  const W t18 = t6 ^ t16;
+  const W t19 = t9 ^ t14;
+  const W t20 = t11 ^ t16;
+  const W t21 = t17 ^ y20;
+  const W t22 = t18 ^ y19;
+  const W t23 = t19 ^ y21;
+  const W t24 = t20 ^ y18;
+
+  const W t25 = t21 ^ t22;
+  const W t26 = t21 & t23;
+  const W t27 = t24 ^ t26;
+  const W t28 = t25 & t27;
+  const W t29 = t28 ^ t22;
+  const W t30 = t23 ^ t24;
+  const W t31 = t22 ^ t26;
+  const W t32 = t31 & t30;
+  const W t33 = t32 ^ t24;
+  const W t34 = t23 ^ t33;
+  const W t35 = t27 ^ t33;
+  const W t36 = t24 & t35;
+  const W t37 = t36 ^ t34;
+  const W t38 = t27 ^ t36;
+  const W t39 = t29 & t38;
+  const W t40 = t25 ^ t39;
+
+  const W t41 = t40 ^ t37;
+  const W t42 = t29 ^ t33;
+  const W t43 = t29 ^ t40;
+  const W t44 = t33 ^ t37;
+  const W t45 = t42 ^ t41;
+  const W z0 = t44 & y15;
+  const W z1 = t37 & y6;
+  const W z2 = t33 & x7;
+  const W z3 = t43 & y16;
+  const W z4 = t40 & y1;
+  const W z5 = t29 & y7;
+  const W z6 = t42 & y11;
+  const W z7 = t45 & y17;
+  const W z8 = t41 & y10;
+  const W z9 = t44 & y12;
+  const W z10 = t37 & y3;
+  const W z11 = t33 & y4;
+  const W z12 = t43 & y13;
+  const W z13 = t40 & y5;
+  const W z14 = t29 & y2;
+  const W z15 = t42 & y9;
+  const W z16 = t45 & y14;
+  const W z17 = t41 & y8;
+
+  // Bottom linear transformation.
+  const W t46 = z15 ^ z16;
+  const W t47 = z10 ^ z11;
+  const W t48 = z5 ^ z13;
+  const W t49 = z9 ^ z10;
+  const W t50 = z2 ^ z12;
+  const W t51 = z2 ^ z5;
+  const W t52 = z7 ^ z8;
+  const W t53 = z0 ^ z3;
+  const W t54 = z6 ^ z7;
+  const W t55 = z16 ^ z17;
+  const W t56 = z12 ^ t48;
+  const W t57 = t50 ^ t53;
+  const W t58 = z4 ^ t46;
+  const W t59 = z3 ^ t54;
+  const W t60 = t46 ^ t57;
+  const W t61 = z14 ^ t57;
+  const W t62 = t52 ^ t58;
+  const W t63 = t49 ^ t58;
+  const W t64 = z4 ^ t59;
+  const W t65 = t61 ^ t62;
+  const W t66 = z1 ^ t63;
+  const W s0 = t59 ^ t63;
+  const W s6 = t56 ^ ~t62;
+  const W s7 = t48 ^ ~t60;
+  const W t67 = t64 ^ t65;
+  const W s3 = t53 ^ t66;
+  const W s4 = t51 ^ t66;
+  const W s5 = t47 ^ t65;
+  const W s1 = t64 ^ ~s3;
+  const W s2 = t55 ^ ~t67;
+
+  q[7] = s0;
+  q[6] = s1;
+  q[5] = s2;
+  q[4] = s3;
+  q[3] = s4;
+  q[2] = s5;
+  q[1] = s6;
+  q[0] = s7;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Key expansion (constant time: the S-box is the same circuit, on the 4 bytes of a word)
+// ---------------------------------------------------------------------------------------------
+
+/// \brief SubWord of FIPS-197 on a little-endian packed word (byte 0 in the low 8 bits): the 4
+/// bytes are bitsliced into 8 words of 4 used bits and pushed through the circuit.
+KOKKOS_INLINE_FUNCTION std::uint32_t sub_word(std::uint32_t w) {
+  std::uint32_t q[8];
+  NACRE_AES_UNROLL
+  for (int i = 0; i < 8; ++i) {
+    q[i] = 0;
+    NACRE_AES_UNROLL
+    for (int b = 0; b < 4; ++b) q[i] |= ((w >> (8 * b + i)) & 1u) << b;
+  }
+  sbox(q);
+  std::uint32_t r = 0;
+  NACRE_AES_UNROLL
+  for (int i = 0; i < 8; ++i) {
+    NACRE_AES_UNROLL
+    for (int b = 0; b < 4; ++b) r |= ((q[i] >> b) & 1u) << (8 * b + i);
+  }
+  return r;
+}
+
+/// \brief The S-box of one byte, through the circuit (constant time; for tests and key setup).
+KOKKOS_INLINE_FUNCTION std::uint8_t sbox_byte(std::uint8_t x) {
+  return static_cast<std::uint8_t>(sub_word(x) & 0xFFu);
+}
+
+}  // namespace bitslice
+
+/// \brief FIPS-197 §5.2 key expansion, table-free and branch-free in the key: SubWord is the
+/// bitsliced circuit; the round constants are indexed by the public round number only.
+KOKKOS_INLINE_FUNCTION RoundKeys expand_key(const Key128& key) {
+  std::uint32_t w[44];
+  NACRE_AES_UNROLL
+  for (int i = 0; i < 4; ++i)
+    w[i] = std::uint32_t(key.bytes[4 * i]) | (std::uint32_t(key.bytes[4 * i + 1]) << 8) |
+           (std::uint32_t(key.bytes[4 * i + 2]) << 16) | (std::uint32_t(key.bytes[4 * i + 3]) << 24);
+  std::uint32_t rcon = 1;
+  for (int i = 4; i < 44; ++i) {
+    std::uint32_t t = w[i - 1];
+    if (i % 4 == 0) {  // public: depends on the loop index only
+      t = bitslice::sub_word((t >> 8) | (t << 24)) ^ rcon;
+      rcon = ((rcon << 1) ^ (0x11Bu & (0u - (rcon >> 7)))) & 0xFFu;  // xtime, branch-free
+    }
+    w[i] = w[i - 4] ^ t;
+  }
+  RoundKeys rk{};
+  for (int r = 0; r < 11; ++r)
+    for (int c = 0; c < 4; ++c)
+      for (int b = 0; b < 4; ++b)
+        rk.bytes[r][4 * c + b] = static_cast<std::uint8_t>(w[4 * r + c] >> (8 * b));
+  return rk;
+}
+
+namespace bitslice {
+
+/// \brief Round-key masks: masks[128*r + 8*byte + bit] is all ones where bit `bit` of byte
+/// `byte` of round key r is set, else zero (computed arithmetically, no branch).
+template <class Lane>
+KOKKOS_INLINE_FUNCTION void round_key_masks(const RoundKeys& rk, Lane* masks) {
+  for (int r = 0; r < 11; ++r)
+    for (int b = 0; b < 16; ++b)
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i)
+        masks[128 * r + 8 * b + i] = Lane(0) - Lane((rk.bytes[r][b] >> i) & 1u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transposition into / out of bitsliced form
+// ---------------------------------------------------------------------------------------------
+
+/// \brief Lane mask with bit p set where (p & s) == 0.
+template <class Lane>
+KOKKOS_INLINE_FUNCTION constexpr Lane swap_mask(int s) {
+  Lane m = 0;
+  for (int p = 0; p < int(8 * sizeof(Lane)); ++p)
+    if ((p & s) == 0) m |= Lane(1) << p;
+  return m;
+}
+
+/// \brief In-place transpose of the lane_bits x lane_bits bit matrix held in a[0..lane_bits)
+/// (independently in each lane): afterwards bit j of a[k] is the old bit k of a[j]. Six (five)
+/// SWAPMOVE stages of 32 (16) swaps, each 3 XOR, 1 AND and 2 shifts.
+template <class W>
+KOKKOS_INLINE_FUNCTION void transpose(W* a) {
+  using L = typename WordTraits<W>::lane;
+  constexpr int n = WordTraits<W>::lane_bits;
+  NACRE_AES_UNROLL
+  for (int s = n / 2; s >= 1; s >>= 1) {
+    const L m = swap_mask<L>(s);
+    NACRE_AES_UNROLL
+    for (int k = 0; k < n; ++k) {
+      if (k & s) continue;  // public index pattern
+      const W t = ((a[k] >> s) ^ a[k + s]) & m;
+      a[k + s] ^= t;
+      a[k] ^= t << s;
+    }
+  }
+}
+
+/// \brief Bitslice kBlocks<W> blocks (lanes, little-endian, block b = lanes[b*P .. b*P+P)) into
+/// the 128-word state st.
+template <class W>
+KOKKOS_INLINE_FUNCTION void load_state(const typename WordTraits<W>::lane* blocks, W* st) {
+  using T = WordTraits<W>;
+  constexpr int n = T::lane_bits, P = kLanesPerBlock<W>;
+  NACRE_AES_UNROLL
+  for (int p = 0; p < P; ++p) {
+    W* rows = st + p * n;
+    NACRE_AES_UNROLL
+    for (int j = 0; j < n; ++j)
+      NACRE_AES_UNROLL
+      for (int l = 0; l < T::lanes; ++l) T::set(rows[j], l, blocks[(j * T::lanes + l) * P + p]);
+    transpose(rows);
+  }
+}
+
+/// \brief Inverse of load_state (destroys st).
+template <class W>
+KOKKOS_INLINE_FUNCTION void store_state(W* st, typename WordTraits<W>::lane* blocks) {
+  using T = WordTraits<W>;
+  constexpr int n = T::lane_bits, P = kLanesPerBlock<W>;
+  NACRE_AES_UNROLL
+  for (int p = 0; p < P; ++p) {
+    W* rows = st + p * n;
+    transpose(rows);
+    NACRE_AES_UNROLL
+    for (int j = 0; j < n; ++j)
+      NACRE_AES_UNROLL
+      for (int l = 0; l < T::lanes; ++l) blocks[(j * T::lanes + l) * P + p] = T::get(rows[j], l);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rounds
+// ---------------------------------------------------------------------------------------------
+
+template <class W>
+KOKKOS_INLINE_FUNCTION void add_round_key(W* st, const typename WordTraits<W>::lane* m) {
+  NACRE_AES_UNROLL
+  for (int k = 0; k < 128; ++k) st[k] ^= m[k];
+}
+
+template <class W>
+KOKKOS_INLINE_FUNCTION void sub_bytes(W* st) {
+  NACRE_AES_UNROLL
+  for (int b = 0; b < 16; ++b) sbox(st + 8 * b);
+}
+
+/// \brief out = MixColumns(ShiftRows(in)) ^ round key m. ShiftRows is folded into the indices:
+/// output column c row r reads input byte (r, c + r mod 4). With t = a0^a1^a2^a3,
+/// b_r = a_r ^ t ^ xtime(a_r ^ a_{r+1}) = 2 a_r ^ 3 a_{r+1} ^ a_{r+2} ^ a_{r+3}.
+template <class W>
+KOKKOS_INLINE_FUNCTION void shift_mix_add(const W* in, W* out,
+                                          const typename WordTraits<W>::lane* m) {
+  NACRE_AES_UNROLL
+  for (int c = 0; c < 4; ++c) {
+    const W* a0 = in + 8 * (0 + 4 * ((c + 0) & 3));
+    const W* a1 = in + 8 * (1 + 4 * ((c + 1) & 3));
+    const W* a2 = in + 8 * (2 + 4 * ((c + 2) & 3));
+    const W* a3 = in + 8 * (3 + 4 * ((c + 3) & 3));
+    const W* a[4] = {a0, a1, a2, a3};
+    W t[8];
+    NACRE_AES_UNROLL
+    for (int i = 0; i < 8; ++i) t[i] = a0[i] ^ a1[i] ^ a2[i] ^ a3[i];
+    NACRE_AES_UNROLL
+    for (int r = 0; r < 4; ++r) {
+      const W* x = a[r];
+      const W* y = a[(r + 1) & 3];
+      W d[8];
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) d[i] = x[i] ^ y[i];
+      // xtime(d): multiply by x modulo x^8 + x^4 + x^3 + x + 1.
+      const W e[8] = {d[7], d[0] ^ d[7], d[1], d[2] ^ d[7], d[3] ^ d[7], d[4], d[5], d[6]};
+      W* o = out + 8 * (r + 4 * c);
+      const typename WordTraits<W>::lane* mk = m + 8 * (r + 4 * c);
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) o[i] = x[i] ^ t[i] ^ e[i] ^ mk[i];
+    }
+  }
+}
+
+/// \brief out = ShiftRows(in) ^ round key m (the last round).
+template <class W>
+KOKKOS_INLINE_FUNCTION void shift_add(const W* in, W* out,
+                                      const typename WordTraits<W>::lane* m) {
+  NACRE_AES_UNROLL
+  for (int c = 0; c < 4; ++c)
+    NACRE_AES_UNROLL
+    for (int r = 0; r < 4; ++r) {
+      const W* x = in + 8 * (r + 4 * ((c + r) & 3));
+      W* o = out + 8 * (r + 4 * c);
+      const typename WordTraits<W>::lane* mk = m + 8 * (r + 4 * c);
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) o[i] = x[i] ^ mk[i];
+    }
+}
+
+/// \brief AES-128 on a bitsliced state: a (in/out) and b (scratch) are 128 words each; masks
+/// are the 11*128 round-key masks (round_key_masks).
+template <class W>
+KOKKOS_INLINE_FUNCTION void encrypt_state(W* a, W* b, const typename WordTraits<W>::lane* masks) {
+  add_round_key(a, masks);
+  for (int r = 1; r < 9; r += 2) {
+    sub_bytes(a);
+    shift_mix_add(a, b, masks + 128 * r);
+    sub_bytes(b);
+    shift_mix_add(b, a, masks + 128 * (r + 1));
+  }
+  sub_bytes(a);
+  shift_mix_add(a, b, masks + 128 * 9);
+  sub_bytes(b);
+  shift_add(b, a, masks + 128 * 10);
+}
+
+/// \brief Encrypt kBlocks<W> blocks in place (lanes little-endian, block b = blocks[b*P ..]).
+template <class W>
+KOKKOS_INLINE_FUNCTION void encrypt_blocks(const typename WordTraits<W>::lane* masks,
+                                           typename WordTraits<W>::lane* blocks) {
+  W a[128], b[128];
+  load_state(blocks, a);
+  encrypt_state(a, b, masks);
+  store_state(a, blocks);
+}
+
+}  // namespace bitslice
+}  // namespace nacre::aes

@@ -1,0 +1,103 @@
+#pragma once
+/// \file
+/// \brief Input deck: every parameter of a run, parsed from TOML and validated up front.
+///
+/// docs/decks.md documents every key with unit and default. Any error (unknown key, wrong type,
+/// missing value, out-of-range or inconsistent value) throws DeckError carrying
+/// "file:line: key: what was expected" before any computation starts.
+#include <nacre/cohesive/law.hpp>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace nacre::deck {
+
+/// \brief A deck error; what() is "file:line: key: message".
+class DeckError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief Specimen and wall geometry (lengths in the deck's length unit).
+struct Geometry {
+  double width = 40.0;          ///< specimen size along x
+  double height = 40.0;         ///< specimen size along y
+  double brick_width = 3.5;     ///< brick length along the wall's rows
+  double brick_height = 1.0;    ///< brick height (row spacing)
+  double overlap = 0.5;         ///< running-bond stagger as a fraction of brick_width
+  double angle_deg = 0.0;       ///< wall orientation relative to the specimen x axis
+  double notch_length = 20.0;   ///< notch from the left edge along y = notch_y
+  double notch_y = -1.0;        ///< notch height; < 0 means mid-height
+  double min_piece_fraction = 0.02;  ///< partial bricks smaller than this (area fraction) are dropped
+  int driven_rows = 1;          ///< bricks within this many brick heights of top/bottom are driven
+};
+
+/// \brief Mortar: cohesive law per interface kind.
+struct Mortar {
+  cohesive::Law bed{100.0, 0.01, 0.02};   ///< joints parallel to the rows
+  cohesive::Law head{100.0, 0.01, 0.02};  ///< joints between bricks of one row
+};
+
+/// \brief Loading: the displacement D of the driven edges, applied in increments.
+struct Load {
+  double tension = 1.0;     ///< weight of uniform opening (top +D/2, bottom -D/2)
+  double bending = 0.0;     ///< weight of linear opening, largest at the notch side
+  double final_displacement = 0.2;
+  double initial_step = 0.02;  ///< InitialLoadStepSize
+  double min_step = 0.02;      ///< MinLoadStepSize
+  double max_step = 0.02;      ///< MaxLoadStepSize
+  bool adaptive = false;       ///< forward control / backtracking of the increment (eq. 2.8, 2.9)
+  bool predictor = false;      ///< position predictor (eq. 2.10, 2.11)
+};
+
+/// \brief Monte Carlo solver.
+struct Solver {
+  double temperature = 0.00075;  ///< TEMP
+  double step = 0.001;           ///< InitialStepSize
+  double min_step = 0.001;       ///< MinStepSize
+  double max_step = 0.001;       ///< MaxStepSize
+  double rot_step = 0.001;       ///< InitialRotSize
+  double min_rot_step = 0.001;   ///< MinRotSize
+  double max_rot_step = 0.001;   ///< MaxRotSize
+  int adapt_interval = 0;        ///< AdaptInter (0: fixed step sizes)
+  double stol = 0.002;           ///< STOL
+  double rtol = 0.03;            ///< RTOL
+  bool stol_relative = true;     ///< STOL bounds var/mean^2 (true) or the variance itself
+  int window_size = 3500;        ///< WindowSize
+  int convergence_rep = 1500;    ///< ConvergenceRep
+  double window_mul = 20;        ///< WindowMul: target cycles c_t = WindowMul * ConvergenceRep
+  double window_upper_mul = 50000;  ///< WindowUpperMul: c_u = WindowUpperMul * ConvergenceRep
+  long max_cycles = 2000000;     ///< hard cap of cycles per load step
+  int quadrature_points = 4;     ///< Gauss-Legendre points per interface (1..8)
+  std::string colouring = "auto";  ///< auto | natural | largest-first | random | balanced
+  std::string rng = "philox";    ///< philox | aes-ctr | mt-aes
+  int presim_cycles = 20;        ///< cycles per candidate colouring in the pre-simulation
+};
+
+/// \brief Outputs.
+struct Output {
+  std::string directory = "out";
+  int dump_interval = 10;  ///< DumpInter: HDF5 dump every this many load steps (0: final only)
+  bool hdf5 = true;
+  bool charts = true;
+  bool progress = true;
+};
+
+/// \brief A whole run.
+struct Deck {
+  std::string path;  ///< where it was read from
+  Geometry geometry;
+  Mortar mortar;
+  Load load;
+  Solver solver;
+  Output output;
+  std::uint64_t seed = 1;
+};
+
+/// \brief Parse and validate a deck file. Throws DeckError.
+[[nodiscard]] Deck parse_deck_file(const std::string& path);
+/// \brief Parse and validate deck text; `name` is used in messages.
+[[nodiscard]] Deck parse_deck_string(std::string_view text, const std::string& name);
+
+}  // namespace nacre::deck

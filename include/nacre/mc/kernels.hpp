@@ -1,0 +1,183 @@
+#pragma once
+/// \file
+/// \brief Kernels over the rigid-brick model: total / per-brick energy, rupture count, load
+/// application and the colour sweep. Templated on the execution space; the model's Views must
+/// be accessible from it.
+#include <nacre/mc/model.hpp>
+#include <nacre/rng/uniform_source.hpp>
+
+namespace nacre::mc {
+
+/// \brief Poses of interface i's two bricks.
+template <class M>
+KOKKOS_INLINE_FUNCTION void interface_poses(const M& x, const M& y, const M& t, int a, int b,
+                                            cohesive::Pose& pa, cohesive::Pose& pb) {
+  pa = cohesive::Pose{x(a), y(a), t(a)};
+  pb = cohesive::Pose{x(b), y(b), t(b)};
+}
+
+/// \brief Total energy: sum over interfaces.
+template <class ExecutionSpace = ExecSpace>
+double total_energy(const Model<typename ExecutionSpace::memory_space>& m) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
+  auto x = m.x, y = m.y, t = m.t;
+  auto ends = m.ends;
+  auto seg = m.seg;
+  auto kind = m.kind;
+  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
+  const cohesive::Quadrature q = m.quad;
+  double e = 0;
+  Kokkos::parallel_reduce(
+      "nacre::mc::total_energy", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_interfaces),
+      KOKKOS_LAMBDA(const int i, double& acc) {
+        cohesive::Pose pa, pb;
+        interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+        acc += cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
+      },
+      e);
+  return e;
+}
+
+/// \brief Energy of each brick's interfaces: full sum per brick into `full` (each interface
+/// counted in both its bricks); half of it is the brick's share of the total.
+template <class ExecutionSpace = ExecSpace>
+void brick_energy(const Model<typename ExecutionSpace::memory_space>& m,
+                  Field<double, typename ExecutionSpace::memory_space> full) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
+  auto x = m.x, y = m.y, t = m.t;
+  auto ends = m.ends;
+  auto seg = m.seg;
+  auto kind = m.kind;
+  auto off = m.adj_offset, adj = m.adj_iface;
+  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
+  const cohesive::Quadrature q = m.quad;
+  Kokkos::parallel_for(
+      "nacre::mc::brick_energy", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_bricks),
+      KOKKOS_LAMBDA(const int b) {
+        double e = 0;
+        for (int j = off(b); j < off(b + 1); ++j) {
+          const int i = adj(j);
+          cohesive::Pose pa, pb;
+          interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+          e += cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
+        }
+        full(b) = e;
+      });
+}
+
+/// \brief Per-interface energy and state (0 elastic, 1 plastic/softening somewhere, 2 ruptured).
+template <class ExecutionSpace = ExecSpace>
+int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
+                    Field<double, typename ExecutionSpace::memory_space> energy,
+                    Field<std::int8_t, typename ExecutionSpace::memory_space> state) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
+  auto x = m.x, y = m.y, t = m.t;
+  auto ends = m.ends;
+  auto seg = m.seg;
+  auto kind = m.kind;
+  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
+  const cohesive::Quadrature q = m.quad;
+  int ruptured = 0;
+  Kokkos::parallel_reduce(
+      "nacre::mc::interface_state", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_interfaces),
+      KOKKOS_LAMBDA(const int i, int& acc) {
+        cohesive::Pose pa, pb;
+        interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+        const auto& law = kind(i) ? l1 : l0;
+        const cohesive::Segment sg = load_segment(seg, i);
+        const cohesive::Gap g = cohesive::interface_gap(sg, pa, pb);
+        if (energy.data()) energy(i) = cohesive::gap_energy(law, q, g, sg.length);
+        std::int8_t s = 0;
+        if (cohesive::min_separation(q, g) >= law.x1 + law.x2) s = 2;
+        else if (cohesive::max_separation(g) > law.x1) s = 1;
+        if (state.data()) state(i) = s;
+        acc += (s == 2);
+      },
+      ruptured);
+  return ruptured;
+}
+
+/// \brief Prescribed pose of a driven brick at load D: opening of the top edge
+/// u_y = +D/2 [tension + bending (x_notch_side)] and its mirror at the bottom; the edge turns
+/// by the slope of that profile. (Free bricks are untouched.)
+struct LoadPattern {
+  double tension, bending, width;
+  KOKKOS_INLINE_FUNCTION cohesive::Pose pose(int side, double cx, double D) const {
+    // bending: largest opening at x = 0 (the notch side), zero at the far edge... linear in x
+    const double lever = 1.0 - cx / width;  // 1 at the notch mouth, 0 at the far edge
+    const double uy = 0.5 * D * (tension + bending * lever) * side;
+    const double slope = -0.5 * D * bending / width * side;
+    return cohesive::Pose{0.0, uy, Kokkos::atan(slope)};
+  }
+};
+
+template <class ExecutionSpace = ExecSpace>
+void apply_load(const Model<typename ExecutionSpace::memory_space>& m, const LoadPattern& lp, double D) {
+  auto x = m.x, y = m.y, t = m.t, cx = m.cx;
+  auto drive = m.drive;
+  Kokkos::parallel_for(
+      "nacre::mc::apply_load", Kokkos::RangePolicy<ExecutionSpace>(m.n_free, m.n_bricks),
+      KOKKOS_LAMBDA(const int b) {
+        const cohesive::Pose p = lp.pose(drive(b), cx(b), D);
+        x(b) = p.x, y(b) = p.y, t(b) = p.t;
+      });
+}
+
+/// \brief Result of sweeping one colour.
+struct SweepTally {
+  long accepted = 0;
+  double delta_energy = 0;
+};
+
+/// \brief One Metropolis trial per brick of one colour (MODEL.md §3). Same-colour bricks share
+/// no interface, so the trials are independent; u(i, 0..3) holds the brick's four uniforms.
+template <class ExecutionSpace = ExecSpace>
+SweepTally sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int begin, int end,
+                        rng::UniformTable<typename ExecutionSpace::memory_space> u, double step,
+                        double rot_step, double temperature) {
+  auto x = m.x, y = m.y, t = m.t;
+  auto ends = m.ends;
+  auto seg = m.seg;
+  auto kind = m.kind;
+  auto off = m.adj_offset, adj = m.adj_iface;
+  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
+  const cohesive::Quadrature q = m.quad;
+  const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
+  long accepted = 0;
+  double de = 0;
+  Kokkos::parallel_reduce(
+      "nacre::mc::sweep_colour", Kokkos::RangePolicy<ExecutionSpace>(begin, end),
+      KOKKOS_LAMBDA(const int b, long& acc, double& dsum) {
+        const cohesive::Pose old{x(b), y(b), t(b)};
+        const cohesive::Pose trial{old.x + step * (2.0 * u(b, 0) - 1.0),
+                                   old.y + step * (2.0 * u(b, 1) - 1.0),
+                                   old.t + rot_step * (2.0 * u(b, 2) - 1.0)};
+        double e_old = 0, e_new = 0;
+        for (int j = off(b); j < off(b + 1); ++j) {
+          const int i = adj(j);
+          const int a = ends(i, 0), c = ends(i, 1);
+          const int o = (a == b) ? c : a;
+          const cohesive::Pose po{x(o), y(o), t(o)};
+          const cohesive::Segment sg = load_segment(seg, i);
+          const auto& law = kind(i) ? l1 : l0;
+          if (a == b) {
+            e_old += cohesive::interface_energy(law, q, sg, old, po);
+            e_new += cohesive::interface_energy(law, q, sg, trial, po);
+          } else {
+            e_old += cohesive::interface_energy(law, q, sg, po, old);
+            e_new += cohesive::interface_energy(law, q, sg, po, trial);
+          }
+        }
+        const double d = e_new - e_old;
+        const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
+        if (accept) {
+          x(b) = trial.x, y(b) = trial.y, t(b) = trial.t;
+          acc += 1;
+          dsum += d;
+        }
+      },
+      accepted, de);
+  return SweepTally{accepted, de};
+}
+
+}  // namespace nacre::mc

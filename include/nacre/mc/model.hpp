@@ -1,0 +1,59 @@
+#pragma once
+/// \file
+/// \brief Device-resident rigid-brick model: brick poses and interface geometry as Views, in
+/// sweep order (free bricks grouped by colour, each colour contiguous, then driven bricks).
+#include <nacre/cohesive/interface_energy.hpp>
+#include <nacre/core/types.hpp>
+#include <nacre/geometry/specimen.hpp>
+#include <nacre/mc/colouring.hpp>
+
+#include <vector>
+
+namespace nacre::mc {
+
+/// Columns of Model::seg, one per Segment field.
+enum SegCol : int { RA0X, RA0Y, RA1X, RA1Y, RB0X, RB0Y, RB1X, RB1Y, NX, NY, LEN, SEG_COLS };
+
+template <class MemorySpace = MemSpace>
+struct Model {
+  static_assert(Kokkos::is_memory_space_v<MemorySpace>, "Model needs a Kokkos memory space");
+  using memory_space = MemorySpace;
+
+  // ---- bricks (structure of arrays: a sweep reads pose components of consecutive bricks)
+  Field<double, MemorySpace> x, y, t;  ///< pose: centroid displacement and rotation
+  Field<double, MemorySpace> cx, cy;   ///< reference centroid (where the load is evaluated)
+  Kokkos::View<std::int8_t*, MemorySpace> drive;   ///< -1 bottom, 0 free, +1 top
+  Kokkos::View<std::uint64_t*, MemorySpace> id;    ///< original brick index = RNG stream id
+  Kokkos::View<int*, MemorySpace> adj_offset, adj_iface;  ///< CSR brick -> interfaces
+  Field<double, MemorySpace> phi0;     ///< energy of all the brick's interfaces at x1 (predictor)
+
+  // ---- interfaces. LayoutLeft: column c of seg is contiguous, so thread i reading seg(i, c)
+  // next to thread i+1 coalesces on GPUs; a CPU sweep gathers ~6 interfaces per brick anyway.
+  Kokkos::View<int* [2], Kokkos::LayoutLeft, MemorySpace> ends;       ///< bricks a, b
+  Kokkos::View<double* [SEG_COLS], Kokkos::LayoutLeft, MemorySpace> seg;
+  Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< 0 bed, 1 head (selects the law)
+
+  cohesive::Law law[2];        ///< one law per joint kind, shared by all interfaces of the kind
+  cohesive::Quadrature quad;
+
+  // ---- host-side bookkeeping
+  std::vector<int> colour_offset;  ///< bricks of colour c: [colour_offset[c], colour_offset[c+1])
+  std::vector<int> perm;           ///< perm[sweep index] = original brick index
+  int n_free = 0, n_bricks = 0, n_interfaces = 0;
+  std::string colouring_name;
+};
+
+/// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
+/// and uploads everything. Poses start at zero.
+Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const Colouring& colouring, const deck::Mortar& mortar, int quadrature_points);
+
+/// \brief Segment i of the model (a handful of coalesced loads).
+template <class SegView>
+KOKKOS_INLINE_FUNCTION cohesive::Segment load_segment(const SegView& seg, int i) {
+  return cohesive::Segment{seg(i, RA0X), seg(i, RA0Y), seg(i, RA1X), seg(i, RA1Y),
+                           seg(i, RB0X), seg(i, RB0Y), seg(i, RB1X), seg(i, RB1Y),
+                           seg(i, NX),   seg(i, NY),   seg(i, LEN)};
+}
+
+}  // namespace nacre::mc

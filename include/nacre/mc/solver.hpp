@@ -1,0 +1,96 @@
+#pragma once
+/// \file
+/// \brief Quasi-static rigid-brick solver: load increments, each relaxed by colour-parallel
+/// Metropolis sweeps until the sliding-window test converges (Chapter 2, MODEL.md §3), with the
+/// adaptive step size, adaptive displacement and position predictor of §2.2.
+#include <nacre/deck/deck.hpp>
+#include <nacre/mc/convergence.hpp>
+#include <nacre/mc/kernels.hpp>
+#include <nacre/mc/model.hpp>
+#include <nacre/rng/uniform_source.hpp>
+
+#include <functional>
+#include <iosfwd>
+#include <memory>
+
+namespace nacre::mc {
+
+/// \brief One row of the load-step table.
+struct StepRecord {
+  int step = 0;
+  double displacement = 0, energy = 0, reaction = 0;
+  long cycles = 0;
+  double acceptance = 0;
+  int ruptured = 0;
+  bool converged = true;
+  double step_size = 0, rot_step = 0, increment = 0;
+  int reverts = 0;
+  double seconds = 0;
+};
+
+/// \brief Wall time per phase (fenced), the split of Fig. 2.12.
+struct PhaseTimes {
+  double rng = 0, sweep = 0, energy = 0, other = 0;
+};
+
+class Solver {
+public:
+  /// \brief Colours the bricks (running the pre-simulation when colouring = "auto") and uploads
+  /// the model. `log` gets one line per decision (may be null).
+  Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+         std::ostream* log = nullptr);
+
+  [[nodiscard]] const Model<>& model() const { return m_; }
+  [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
+
+  /// \brief Move the driven bricks to load D (free bricks stay).
+  void set_load(double D);
+  [[nodiscard]] double load() const { return D_; }
+  /// \brief Exact total energy (a reduction over all interfaces).
+  double energy();
+  /// \brief Generalised reaction dE/dD at fixed free bricks (central difference).
+  double reaction();
+  /// \brief Interfaces at rupture (fully separated at every quadrature point).
+  int ruptured();
+
+  /// \brief One MC cycle (RNG batch + every colour once); returns accepted trials.
+  long cycle();
+  /// \brief Relax at the current load until converged or max_cycles; returns cycles done.
+  long relax(bool& converged);
+  /// \brief Apply the whole loading programme of the deck; calls on_step after each increment.
+  void run(const std::function<void(const StepRecord&)>& on_step);
+
+  /// \brief Called every ~1000 cycles inside a step with (cycles so far, energy) for progress.
+  std::function<void(long, double)> on_progress;
+
+  [[nodiscard]] const PhaseTimes& times() const { return times_; }
+  [[nodiscard]] double step_size() const { return step_; }
+  [[nodiscard]] double rot_step() const { return rot_step_; }
+  [[nodiscard]] std::uint64_t global_cycle() const { return global_cycle_; }
+  [[nodiscard]] double tracked_energy() const { return E_; }
+
+  /// \brief Host copies of the poses, in original brick order (for output and tests).
+  void poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const;
+
+private:
+  void allocate_work();
+  void predict(double ratio);
+
+  deck::Deck deck_;
+  Model<> m_;
+  LoadPattern pattern_;
+  std::unique_ptr<rng::UniformSource> source_;
+  rng::UniformTable<> u_;
+  Field<double> prev_x_, prev_y_, prev_t_, save_x_, save_y_, save_t_, phi_;
+  ConvergenceMonitor monitor_;
+  std::vector<std::pair<std::string, double>> presim_;
+  PhaseTimes times_;
+  double D_ = 0, E_ = 0, step_, rot_step_;
+  long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
+  long accepted_total_ = 0, trials_total_ = 0;
+  long cycle_limit_ = 0;  ///< > 0: relax() gives up after this many cycles (backtracking)
+  std::uint64_t global_cycle_ = 0;
+  std::ostream* log_;
+};
+
+}  // namespace nacre::mc

@@ -1,0 +1,3 @@
+#include <nacre/app/run.hpp>
+
+int main(int argc, char* argv[]) { return nacre::app::main(argc, argv); }

@@ -1,0 +1,112 @@
+#include <nacre/io/hdf5_writer.hpp>
+
+#include <hdf5.h>
+
+#include <stdexcept>
+
+namespace nacre::io {
+
+namespace {
+void check(herr_t e, const std::string& what) {
+  if (e < 0) throw std::runtime_error("HDF5: " + what);
+}
+}  // namespace
+
+H5Writer::H5Writer(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr noise
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error("HDF5: cannot create " + path);
+}
+
+H5Writer::~H5Writer() {
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+void H5Writer::group(const std::string& name) {
+  const hid_t g = H5Gcreate2(file_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) throw std::runtime_error("HDF5: cannot create group " + name);
+  H5Gclose(g);
+}
+
+template <class T>
+void H5Writer::write_impl(const std::string& name, const std::vector<T>& v, std::size_t cols, long type) {
+  const hsize_t dims[2] = {cols ? v.size() / cols : 0, cols};
+  const hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
+  const hid_t ds = H5Dcreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (ds < 0) {
+    H5Sclose(space);
+    throw std::runtime_error("HDF5: cannot create dataset " + name);
+  }
+  const herr_t e = v.empty() ? 0 : H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Dclose(ds);
+  H5Sclose(space);
+  check(e, "cannot write dataset " + name);
+}
+
+void H5Writer::write(const std::string& n, const std::vector<double>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_DOUBLE); }
+void H5Writer::write(const std::string& n, const std::vector<std::int32_t>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_INT32); }
+void H5Writer::write(const std::string& n, const std::vector<std::int64_t>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_INT64); }
+void H5Writer::write(const std::string& n, const std::vector<std::int8_t>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_INT8); }
+
+void H5Writer::attribute(const std::string& name, double v) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t e = H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
+  H5Aclose(a);
+  H5Sclose(space);
+  check(e, "attribute " + name);
+}
+
+void H5Writer::attribute(const std::string& name, std::int64_t v) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(file_, name.c_str(), H5T_NATIVE_INT64, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t e = H5Awrite(a, H5T_NATIVE_INT64, &v);
+  H5Aclose(a);
+  H5Sclose(space);
+  check(e, "attribute " + name);
+}
+
+void H5Writer::attribute(const std::string& name, const std::string& v) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, v.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t e = H5Awrite(a, type, v.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+  check(e, "attribute " + name);
+}
+
+std::vector<double> h5_read_doubles(const std::string& path, const std::string& name) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
+  const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  if (ds < 0) {
+    H5Fclose(f);
+    throw std::runtime_error("HDF5: no dataset " + name + " in " + path);
+  }
+  const hid_t space = H5Dget_space(ds);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  const herr_t e = n ? H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) : 0;
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  check(e, "cannot read " + name);
+  return v;
+}
+
+double h5_read_attribute(const std::string& path, const std::string& name) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
+  const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+  double v = 0;
+  const herr_t e = a < 0 ? -1 : H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+  if (a >= 0) H5Aclose(a);
+  H5Fclose(f);
+  check(e, "cannot read attribute " + name);
+  return v;
+}
+
+}  // namespace nacre::io

@@ -1,0 +1,41 @@
+# Tests of nacre's bitsliced AES and the AES random-number sources (included from
+# tests/CMakeLists.txt; sources of nacre_add_test are relative to tests/).
+include(${PROJECT_SOURCE_DIR}/src/aes/aes.cmake)
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)
+
+set(_nacre_aes_env "OMP_PROC_BIND=false;NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+
+# Cipher: FIPS-197 vectors, the circuit, OpenSSL equality. Registered for the default thread
+# count by nacre_add_test and again for 1 and 2 threads explicitly.
+nacre_add_test(test_aes LABELS aes SOURCES aes/test_aes.cpp LIBS OpenSSL::Crypto)
+# Generators: determinism, independence, uniformity and serial-correlation smoke tests.
+nacre_add_test(test_aes_sources LABELS aes rng SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
+foreach(_t 1 2)
+  catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]"
+    EXTRA_ARGS --kokkos-num-threads=${_t}
+    PROPERTIES LABELS "aes;threads" ENVIRONMENT "${_nacre_aes_env}")
+  catch_discover_tests(test_aes_sources TEST_SUFFIX " [${_t} thread(s)]"
+    EXTRA_ARGS --kokkos-num-threads=${_t}
+    PROPERTIES LABELS "aes;rng;threads" ENVIRONMENT "${_nacre_aes_env}")
+endforeach()
+
+# Constant time under valgrind memcheck: key and plaintext are marked undefined; memcheck
+# reports any conditional jump or memory address computed from them. nacre's AES must pass,
+# a deliberately table-based AES in the same program must be caught. ct_check is built without
+# -march flags and without nacre_lib (valgrind does not decode AVX-512); it needs only headers.
+find_program(NACRE_VALGRIND valgrind)
+add_executable(nacre_aes_ct_check ${CMAKE_CURRENT_LIST_DIR}/ct_check.cpp)
+target_link_libraries(nacre_aes_ct_check PRIVATE Kokkos::kokkos nacre_warnings)
+target_include_directories(nacre_aes_ct_check PRIVATE ${PROJECT_SOURCE_DIR}/include)
+if(NACRE_VALGRIND)
+  set(_vg ${NACRE_VALGRIND} --tool=memcheck --error-exitcode=1 --track-origins=yes -q)
+  add_test(NAME aes_constant_time_nacre COMMAND ${_vg} $<TARGET_FILE:nacre_aes_ct_check> nacre)
+  add_test(NAME aes_constant_time_table_is_caught
+           COMMAND ${_vg} $<TARGET_FILE:nacre_aes_ct_check> table)
+  set_tests_properties(aes_constant_time_nacre aes_constant_time_table_is_caught PROPERTIES
+    LABELS "aes;constant-time" ENVIRONMENT "${_nacre_aes_env}" TIMEOUT 120)
+  # The table variant must make memcheck fail (secret-dependent addresses are reported).
+  set_tests_properties(aes_constant_time_table_is_caught PROPERTIES WILL_FAIL TRUE)
+else()
+  message(WARNING "nacre: valgrind not found; the AES constant-time tests are not registered")
+endif()
