@@ -1,0 +1,17 @@
+# Benchmarks of nacre's bitsliced AES and the AES random-number sources (included from
+# perf/CMakeLists.txt). Driver scripts: perf/aes/run_aes_bench.sh, perf/aes/run_dieharder.sh.
+include(${PROJECT_SOURCE_DIR}/src/aes/aes.cmake)
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)
+find_path(NACRE_RANDOM123_INCLUDE Random123/philox.h)
+
+if(NACRE_RANDOM123_INCLUDE)
+  add_executable(nacre_aes_bench ${CMAKE_CURRENT_LIST_DIR}/aes_bench.cpp)
+  target_include_directories(nacre_aes_bench SYSTEM PRIVATE ${NACRE_RANDOM123_INCLUDE})
+  target_link_libraries(nacre_aes_bench PRIVATE nacre_lib OpenSSL::Crypto nacre_warnings)
+else()
+  message(WARNING "nacre: Random123 headers not found; nacre_aes_bench is not built")
+endif()
+
+# Raw generator output for dieharder (-g 200 reads raw binary on stdin).
+add_executable(nacre_rng_stream ${CMAKE_CURRENT_LIST_DIR}/rng_stream.cpp)
+target_link_libraries(nacre_rng_stream PRIVATE nacre_lib nacre_warnings)

@@ -52,9 +52,12 @@ struct EcbLoad {
     constexpr int per_block = 16 / int(sizeof(L));
     const int n = nb * per_block;
     const std::uint8_t* p = in.data() + first * 16;
-    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, chunk_blocks * per_block), [&](const int i) {
-      buf[i] = i < n ? load_lane<L>(p + std::size_t(i) * sizeof(L), aligned) : L(0);
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n), [&](const int i) {
+      buf[i] = load_lane<L>(p + std::size_t(i) * sizeof(L), aligned);
     });
+    // Zero padding of a partial last chunk (its ciphertext is discarded).
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n, chunk_blocks * per_block),
+                         [&](const int i) { buf[i] = L(0); });
   }
 };
 

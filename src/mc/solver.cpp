@@ -81,6 +81,7 @@ void Solver::allocate_work() {
   save_x_ = Field<double>("nacre::mc::save_x", n), save_y_ = Field<double>("nacre::mc::save_y", n);
   save_t_ = Field<double>("nacre::mc::save_t", n);
   phi_ = Field<double>("nacre::mc::phi", n);
+  de_ = Field<double>("nacre::mc::delta_energy", static_cast<std::size_t>(m_.n_free));
 }
 
 void Solver::set_load(double D) {
@@ -90,7 +91,7 @@ void Solver::set_load(double D) {
 
 double Solver::energy() {
   Kokkos::Timer timer;
-  const double e = total_energy(m_);
+  const double e = total_energy(m_, sum_ws_);
   times_.energy += timer.seconds();
   return e;
 }
@@ -128,11 +129,11 @@ long Solver::cycle() {
   {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::sweep");
     const double T = deck_.solver.temperature;
-    for (std::size_t c = 0; c + 1 < m_.colour_offset.size(); ++c) {
-      const SweepTally t = sweep_colour(m_, m_.colour_offset[c], m_.colour_offset[c + 1], u_, step_, rot_step_, T);
-      accepted += t.accepted;
-      de += t.delta_energy;
-    }
+    for (std::size_t c = 0; c + 1 < m_.colour_offset.size(); ++c)
+      accepted += sweep_colour(m_, m_.colour_offset[c], m_.colour_offset[c + 1], u_, de_, step_, rot_step_, T);
+    auto d = de_;
+    de = deterministic_sum("nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
+                           KOKKOS_LAMBDA(const int b) { return d(b); });
   }
   times_.sweep += timer.seconds();
   E_ += de;
@@ -180,16 +181,7 @@ long Solver::relax(bool& converged) {
 void Solver::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
   brick_energy(m_, phi_);
-  auto x = m_.x, y = m_.y, t = m_.t, px = prev_x_, py = prev_y_, pt = prev_t_, phi = phi_, phi0 = m_.phi0;
-  Kokkos::parallel_for(
-      "nacre::mc::predict", Kokkos::RangePolicy<ExecSpace>(0, m_.n_free), KOKKOS_LAMBDA(const int b) {
-        // eq. 2.11: linear extrapolation at low energy, fading to constant near rupture
-        const double r = phi0(b) > 0 ? phi(b) / phi0(b) : 0.0;
-        const double mfac = 1.0 - 1.8 * (Kokkos::fmax(Kokkos::fmin(r, 1.0), 0.5) - 0.5);
-        x(b) += ratio * (x(b) - px(b)) * mfac;
-        y(b) += ratio * (y(b) - py(b)) * mfac;
-        t(b) += ratio * (t(b) - pt(b)) * mfac;
-      });
+  predict_poses(m_, prev_x_, prev_y_, prev_t_, phi_, ratio);
 }
 
 void Solver::run(const std::function<void(const StepRecord&)>& on_step) {

@@ -113,6 +113,20 @@ struct WordTraits<u64x2> {
   static constexpr const char* name = "u64x2 (128-bit vector extension)";
   static lane get(const u64x2& w, int l) { return w[l]; }
   static void set(u64x2& w, int l, lane v) { w[l] = v; }
+  /// Rows of both halves of 2 consecutive blocks: even = low 64 bits, odd = high 64 bits.
+  static void deinterleave(const lane* src, u64x2& even, u64x2& odd) {
+    u64x2 v0, v1;
+    __builtin_memcpy(&v0, src, sizeof v0);
+    __builtin_memcpy(&v1, src + 2, sizeof v1);
+    even = __builtin_shufflevector(v0, v1, 0, 2);
+    odd = __builtin_shufflevector(v0, v1, 1, 3);
+  }
+  static void interleave(const u64x2& even, const u64x2& odd, lane* dst) {
+    const u64x2 v0 = __builtin_shufflevector(even, odd, 0, 2);
+    const u64x2 v1 = __builtin_shufflevector(even, odd, 1, 3);
+    __builtin_memcpy(dst, &v0, sizeof v0);
+    __builtin_memcpy(dst + 2, &v1, sizeof v1);
+  }
 };
 template <>
 struct WordTraits<u64x4> {
@@ -122,6 +136,20 @@ struct WordTraits<u64x4> {
   static constexpr const char* name = "u64x4 (256-bit vector extension)";
   static lane get(const u64x4& w, int l) { return w[l]; }
   static void set(u64x4& w, int l, lane v) { w[l] = v; }
+  /// Rows of both halves of 4 consecutive blocks: even = low 64 bits, odd = high 64 bits.
+  static void deinterleave(const lane* src, u64x4& even, u64x4& odd) {
+    u64x4 v0, v1;
+    __builtin_memcpy(&v0, src, sizeof v0);
+    __builtin_memcpy(&v1, src + 4, sizeof v1);
+    even = __builtin_shufflevector(v0, v1, 0, 2, 4, 6);
+    odd = __builtin_shufflevector(v0, v1, 1, 3, 5, 7);
+  }
+  static void interleave(const u64x4& even, const u64x4& odd, lane* dst) {
+    const u64x4 v0 = __builtin_shufflevector(even, odd, 0, 4, 1, 5);
+    const u64x4 v1 = __builtin_shufflevector(even, odd, 2, 6, 3, 7);
+    __builtin_memcpy(dst, &v0, sizeof v0);
+    __builtin_memcpy(dst + 4, &v1, sizeof v1);
+  }
 };
 template <>
 struct WordTraits<u64x8> {
@@ -131,6 +159,20 @@ struct WordTraits<u64x8> {
   static constexpr const char* name = "u64x8 (512-bit vector extension)";
   static lane get(const u64x8& w, int l) { return w[l]; }
   static void set(u64x8& w, int l, lane v) { w[l] = v; }
+  /// Rows of both halves of 8 consecutive blocks: even = low 64 bits, odd = high 64 bits.
+  static void deinterleave(const lane* src, u64x8& even, u64x8& odd) {
+    u64x8 v0, v1;
+    __builtin_memcpy(&v0, src, sizeof v0);
+    __builtin_memcpy(&v1, src + 8, sizeof v1);
+    even = __builtin_shufflevector(v0, v1, 0, 2, 4, 6, 8, 10, 12, 14);
+    odd = __builtin_shufflevector(v0, v1, 1, 3, 5, 7, 9, 11, 13, 15);
+  }
+  static void interleave(const u64x8& even, const u64x8& odd, lane* dst) {
+    const u64x8 v0 = __builtin_shufflevector(even, odd, 0, 8, 1, 9, 2, 10, 3, 11);
+    const u64x8 v1 = __builtin_shufflevector(even, odd, 4, 12, 5, 13, 6, 14, 7, 15);
+    __builtin_memcpy(dst, &v0, sizeof v0);
+    __builtin_memcpy(dst + 8, &v1, sizeof v1);
+  }
 };
 #endif
 
@@ -423,14 +465,23 @@ template <class W>
 KOKKOS_INLINE_FUNCTION void load_state(const typename WordTraits<W>::lane* blocks, W* st) {
   using T = WordTraits<W>;
   constexpr int n = T::lane_bits, P = kLanesPerBlock<W>;
-  NACRE_AES_UNROLL
-  for (int p = 0; p < P; ++p) {
-    W* rows = st + p * n;
+  if constexpr (T::lanes > 1 && P == 2) {
+    // SIMD words: the `lanes` blocks of row j are 2*lanes consecutive 64-bit lanes; two vector
+    // loads and two shuffles give row j of both halves.
     NACRE_AES_UNROLL
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < n; ++j) T::deinterleave(blocks + 2 * T::lanes * j, st[j], st[n + j]);
+    transpose(st);
+    transpose(st + n);
+  } else {
+    NACRE_AES_UNROLL
+    for (int p = 0; p < P; ++p) {
+      W* rows = st + p * n;
       NACRE_AES_UNROLL
-      for (int l = 0; l < T::lanes; ++l) T::set(rows[j], l, blocks[(j * T::lanes + l) * P + p]);
-    transpose(rows);
+      for (int j = 0; j < n; ++j)
+        NACRE_AES_UNROLL
+        for (int l = 0; l < T::lanes; ++l) T::set(rows[j], l, blocks[(j * T::lanes + l) * P + p]);
+      transpose(rows);
+    }
   }
 }
 
@@ -439,14 +490,21 @@ template <class W>
 KOKKOS_INLINE_FUNCTION void store_state(W* st, typename WordTraits<W>::lane* blocks) {
   using T = WordTraits<W>;
   constexpr int n = T::lane_bits, P = kLanesPerBlock<W>;
-  NACRE_AES_UNROLL
-  for (int p = 0; p < P; ++p) {
-    W* rows = st + p * n;
-    transpose(rows);
+  if constexpr (T::lanes > 1 && P == 2) {
+    transpose(st);
+    transpose(st + n);
     NACRE_AES_UNROLL
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < n; ++j) T::interleave(st[j], st[n + j], blocks + 2 * T::lanes * j);
+  } else {
+    NACRE_AES_UNROLL
+    for (int p = 0; p < P; ++p) {
+      W* rows = st + p * n;
+      transpose(rows);
       NACRE_AES_UNROLL
-      for (int l = 0; l < T::lanes; ++l) blocks[(j * T::lanes + l) * P + p] = T::get(rows[j], l);
+      for (int j = 0; j < n; ++j)
+        NACRE_AES_UNROLL
+        for (int l = 0; l < T::lanes; ++l) blocks[(j * T::lanes + l) * P + p] = T::get(rows[j], l);
+    }
   }
 }
 

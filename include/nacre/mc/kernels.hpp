@@ -3,6 +3,7 @@
 /// \brief Kernels over the rigid-brick model: total / per-brick energy, rupture count, load
 /// application and the colour sweep. Templated on the execution space; the model's Views must
 /// be accessible from it.
+#include <nacre/core/deterministic_sum.hpp>
 #include <nacre/mc/model.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
@@ -16,9 +17,10 @@ KOKKOS_INLINE_FUNCTION void interface_poses(const M& x, const M& y, const M& t, 
   pb = cohesive::Pose{x(b), y(b), t(b)};
 }
 
-/// \brief Total energy: sum over interfaces.
+/// \brief Total energy: sum over interfaces (deterministic: same bits for any thread count).
 template <class ExecutionSpace = ExecSpace>
-double total_energy(const Model<typename ExecutionSpace::memory_space>& m) {
+double total_energy(const Model<typename ExecutionSpace::memory_space>& m,
+                    SumWorkspace<typename ExecutionSpace::memory_space>& ws) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
   auto x = m.x, y = m.y, t = m.t;
   auto ends = m.ends;
@@ -26,16 +28,12 @@ double total_energy(const Model<typename ExecutionSpace::memory_space>& m) {
   auto kind = m.kind;
   const cohesive::Law l0 = m.law[0], l1 = m.law[1];
   const cohesive::Quadrature q = m.quad;
-  double e = 0;
-  Kokkos::parallel_reduce(
-      "nacre::mc::total_energy", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_interfaces),
-      KOKKOS_LAMBDA(const int i, double& acc) {
+  return deterministic_sum<ExecutionSpace>(
+      "nacre::mc::total_energy", ws, 0, m.n_interfaces, KOKKOS_LAMBDA(const int i) {
         cohesive::Pose pa, pb;
         interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
-        acc += cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
-      },
-      e);
-  return e;
+        return cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
+      });
 }
 
 /// \brief Energy of each brick's interfaces: full sum per brick into `full` (each interface
@@ -123,18 +121,15 @@ void apply_load(const Model<typename ExecutionSpace::memory_space>& m, const Loa
       });
 }
 
-/// \brief Result of sweeping one colour.
-struct SweepTally {
-  long accepted = 0;
-  double delta_energy = 0;
-};
-
 /// \brief One Metropolis trial per brick of one colour (MODEL.md §3). Same-colour bricks share
 /// no interface, so the trials are independent; u(i, 0..3) holds the brick's four uniforms.
+/// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
+/// returned (an integer reduction, exact for any thread count).
 template <class ExecutionSpace = ExecSpace>
-SweepTally sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int begin, int end,
-                        rng::UniformTable<typename ExecutionSpace::memory_space> u, double step,
-                        double rot_step, double temperature) {
+long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int begin, int end,
+                  rng::UniformTable<typename ExecutionSpace::memory_space> u,
+                  Field<double, typename ExecutionSpace::memory_space> de, double step,
+                  double rot_step, double temperature) {
   auto x = m.x, y = m.y, t = m.t;
   auto ends = m.ends;
   auto seg = m.seg;
@@ -144,10 +139,9 @@ SweepTally sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, i
   const cohesive::Quadrature q = m.quad;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   long accepted = 0;
-  double de = 0;
   Kokkos::parallel_reduce(
       "nacre::mc::sweep_colour", Kokkos::RangePolicy<ExecutionSpace>(begin, end),
-      KOKKOS_LAMBDA(const int b, long& acc, double& dsum) {
+      KOKKOS_LAMBDA(const int b, long& acc) {
         const cohesive::Pose old{x(b), y(b), t(b)};
         const cohesive::Pose trial{old.x + step * (2.0 * u(b, 0) - 1.0),
                                    old.y + step * (2.0 * u(b, 1) - 1.0),
@@ -173,11 +167,31 @@ SweepTally sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, i
         if (accept) {
           x(b) = trial.x, y(b) = trial.y, t(b) = trial.t;
           acc += 1;
-          dsum += d;
         }
+        de(b) = accept ? d : 0.0;
       },
-      accepted, de);
-  return SweepTally{accepted, de};
+      accepted);
+  return accepted;
+}
+
+/// \brief Position predictor (eq. 2.10, 2.11) for the free bricks: p += ratio (p - p_prev) m,
+/// m = 1 - 1.8 (max(min(phi/phi0, 1), 0.5) - 0.5): linear extrapolation at low energy, fading
+/// to constant prediction as the brick approaches its elastic limit. ratio = D_{n+1} / D_n.
+template <class ExecutionSpace = ExecSpace>
+void predict_poses(const Model<typename ExecutionSpace::memory_space>& m,
+                   Field<double, typename ExecutionSpace::memory_space> px,
+                   Field<double, typename ExecutionSpace::memory_space> py,
+                   Field<double, typename ExecutionSpace::memory_space> pt,
+                   Field<double, typename ExecutionSpace::memory_space> phi, double ratio) {
+  auto x = m.x, y = m.y, t = m.t, phi0 = m.phi0;
+  Kokkos::parallel_for(
+      "nacre::mc::predict", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_free), KOKKOS_LAMBDA(const int b) {
+        const double r = phi0(b) > 0 ? phi(b) / phi0(b) : 0.0;
+        const double mfac = 1.0 - 1.8 * (Kokkos::fmax(Kokkos::fmin(r, 1.0), 0.5) - 0.5);
+        x(b) += ratio * (x(b) - px(b)) * mfac;
+        y(b) += ratio * (y(b) - py(b)) * mfac;
+        t(b) += ratio * (t(b) - pt(b)) * mfac;
+      });
 }
 
 }  // namespace nacre::mc

@@ -81,6 +81,8 @@ private:
   LoadPattern pattern_;
   std::unique_ptr<rng::UniformSource> source_;
   rng::UniformTable<> u_;
+  SumWorkspace<> sum_ws_;
+  Field<double> de_;  ///< accepted energy change per free brick in the current cycle
   Field<double> prev_x_, prev_y_, prev_t_, save_x_, save_y_, save_t_, phi_;
   ConvergenceMonitor monitor_;
   std::vector<std::pair<std::string, double>> presim_;

@@ -1,0 +1,55 @@
+#pragma once
+/// \file
+/// \brief Sums whose rounding does not depend on the thread count.
+///
+/// A Kokkos parallel_reduce adds partial sums in an order set by the number of threads, so a
+/// floating-point total differs in its last bits between 1 and 2 threads; the Monte Carlo
+/// convergence test would then stop at different cycles and runs would diverge. Here the
+/// terms are summed in fixed blocks of kBlock consecutive indices (in parallel over blocks, in
+/// order inside a block), and the block sums are added in order on the host. Same bits for
+/// any thread count; one extra pass over nb = n / kBlock partials.
+#include <nacre/core/types.hpp>
+
+namespace nacre {
+
+/// \brief Workspace for deterministic_sum (one per solver; reused every call).
+template <class MemorySpace = MemSpace>
+struct SumWorkspace {
+  static constexpr int kBlock = 128;
+  Kokkos::View<double*, MemorySpace> partial;
+  typename Kokkos::View<double*, MemorySpace>::host_mirror_type host;
+
+  void reserve(int n) {
+    const int nb = (n + kBlock - 1) / kBlock;
+    if (static_cast<int>(partial.extent(0)) < nb) {
+      partial = Kokkos::View<double*, MemorySpace>("nacre::core::sum_partials", nb);
+      host = Kokkos::create_mirror_view(partial);
+    }
+  }
+};
+
+/// \brief sum_{i in [begin, end)} term(i), bit-identical for any thread count.
+template <class ExecutionSpace = ExecSpace, class Term>
+double deterministic_sum(const char* label, SumWorkspace<typename ExecutionSpace::memory_space>& ws,
+                         int begin, int end, const Term& term) {
+  const int n = end - begin;
+  if (n <= 0) return 0.0;
+  constexpr int B = SumWorkspace<>::kBlock;
+  ws.reserve(n);
+  const int nb = (n + B - 1) / B;
+  auto partial = ws.partial;
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecutionSpace>(0, nb), KOKKOS_LAMBDA(const int blk) {
+        const int lo = begin + blk * B, hi = Kokkos::min(end, lo + B);
+        double s = 0.0;
+        for (int i = lo; i < hi; ++i) s += term(i);
+        partial(blk) = s;
+      });
+  Kokkos::deep_copy(Kokkos::subview(ws.host, Kokkos::make_pair(0, nb)),
+                    Kokkos::subview(partial, Kokkos::make_pair(0, nb)));
+  double total = 0.0;
+  for (int b = 0; b < nb; ++b) total += ws.host(b);
+  return total;
+}
+
+}  // namespace nacre

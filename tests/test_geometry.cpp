@@ -1,0 +1,119 @@
+// Specimen construction and interface detection on small hand-checked walls.
+#include <nacre/geometry/specimen.hpp>
+
+#include <catch2/catch_approx.hpp>
+#include <catch2/catch_test_macros.hpp>
+
+#include <cmath>
+#include <numeric>
+
+using namespace nacre;
+using namespace nacre::geometry;
+
+namespace {
+deck::Geometry tiny() {
+  deck::Geometry g;
+  g.width = 7.0;
+  g.height = 2.0;
+  g.brick_width = 3.5;
+  g.brick_height = 1.0;
+  g.overlap = 0.5;
+  g.angle_deg = 0;
+  g.notch_length = 0;
+  g.notch_y = 1.0;
+  g.min_piece_fraction = 0.0;
+  return g;
+}
+double total(const Interfaces& f, JointKind k) {
+  double s = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.kind[i] == k) s += f.length[i];
+  return s;
+}
+int count(const Interfaces& f, JointKind k) {
+  int c = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) c += f.kind[i] == k;
+  return c;
+}
+}  // namespace
+
+TEST_CASE("two-row running bond: bricks, partial bricks, joints", "[geometry]") {
+  auto g = tiny();
+  Specimen s = build_specimen(g);
+  // row 0: [0,3.5] [3.5,7]; row 1 shifted by 1.75: [0,1.75] [1.75,5.25] [5.25,7]
+  REQUIRE(s.size() == 5);
+  CHECK(std::accumulate(s.area.begin(), s.area.end(), 0.0) == Catch::Approx(14.0));
+  Interfaces f = find_interfaces(s, g);
+  CHECK(count(f, JointKind::bed) == 4);
+  CHECK(count(f, JointKind::head) == 3);
+  CHECK(total(f, JointKind::bed) == Catch::Approx(7.0));
+  CHECK(total(f, JointKind::head) == Catch::Approx(3.0));
+  int top = 0, bottom = 0;
+  for (auto d : s.drive) top += d == Drive::top, bottom += d == Drive::bottom;
+  CHECK(top == 3);
+  CHECK(bottom == 2);
+}
+
+TEST_CASE("the notch removes the bonds along it", "[geometry]") {
+  auto g = tiny();
+  g.notch_length = 3.0;  // along y = 1, the bed joint between the rows
+  Specimen s = build_specimen(g);
+  Interfaces f = find_interfaces(s, g);
+  // bed joints [0,1.75] gone, [1.75,3.5] cut to [3,3.5]; head joints untouched
+  CHECK(count(f, JointKind::bed) == 3);
+  CHECK(total(f, JointKind::bed) == Catch::Approx(7.0 - 1.75 - 1.25));
+  CHECK(count(f, JointKind::head) == 3);
+}
+
+TEST_CASE("rotated, notched walls: area conserved, segments consistent, nothing crosses the notch",
+          "[geometry]") {
+  for (double angle : {0.0, 17.0, 30.0, 45.0, -60.0, 90.0}) {
+    deck::Geometry g;
+    g.width = 30;
+    g.height = 20;
+    g.brick_width = 3.5;
+    g.brick_height = 1.0;
+    g.angle_deg = angle;
+    g.notch_length = 12;
+    g.notch_y = 10.3;
+    g.min_piece_fraction = 0.0;
+    Specimen s = build_specimen(g);
+    CAPTURE(angle);
+    CHECK(std::accumulate(s.area.begin(), s.area.end(), 0.0) == Catch::Approx(600.0).epsilon(1e-9));
+    Interfaces f = find_interfaces(s, g);
+    REQUIRE(f.size() > 2 * s.size());
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const int a = f.a[i], b = f.b[i];
+      // both local frames name the same points
+      CHECK(s.cx[a] + f.ra0x[i] == Catch::Approx(s.cx[b] + f.rb0x[i]).margin(1e-9));
+      CHECK(s.cy[a] + f.ra1y[i] == Catch::Approx(s.cy[b] + f.rb1y[i]).margin(1e-9));
+      CHECK(std::hypot(f.nx[i], f.ny[i]) == Catch::Approx(1.0));
+      // normal points from a towards b
+      const double mx = 0.5 * (f.ra0x[i] + f.ra1x[i]), my = 0.5 * (f.ra0y[i] + f.ra1y[i]);
+      CHECK(mx * f.nx[i] + my * f.ny[i] > 0);
+      // no bond crosses the notch slit (y = 10.3, x < 12)
+      const double y0 = s.cy[a] + f.ra0y[i], y1 = s.cy[a] + f.ra1y[i];
+      const double x0 = s.cx[a] + f.ra0x[i], x1 = s.cx[a] + f.ra1x[i];
+      if ((y0 - 10.3) * (y1 - 10.3) < -1e-12) {
+        const double xc = x0 + (10.3 - y0) / (y1 - y0) * (x1 - x0);
+        CHECK(xc >= 12.0 - 0.5 * std::hypot(3.5, 1.0) - 1e-9);  // only bricks past the tip stay whole
+      }
+    }
+  }
+}
+
+TEST_CASE("interface search scales linearly: about three interfaces per brick", "[geometry]") {
+  deck::Geometry g;
+  g.width = 350;
+  g.height = 100;
+  g.notch_length = 0;
+  g.notch_y = 50;
+  Specimen s = build_specimen(g);
+  Interfaces f = find_interfaces(s, g);
+  const double per_brick = static_cast<double>(f.size()) / s.size();
+  CHECK(s.size() > 9000);
+  CHECK(per_brick > 2.8);
+  CHECK(per_brick < 3.1);
+  auto adj = build_adjacency(s.size(), f);
+  CHECK(adj.offset.back() == static_cast<int>(2 * f.size()));
+}
