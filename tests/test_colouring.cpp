@@ -30,7 +30,7 @@ TEST_CASE("every strategy gives a valid distance-1 colouring", "[mc][colouring]"
     const Wall w = wall(angle);
     for (const auto& name : mc::colouring_strategies()) {
       CAPTURE(angle, name);
-      const auto c = mc::colour_graph(name, w.adj, w.free, 42);
+      const auto c = mc::colour_graph(name, w.s, w.adj, w.free, 42);
       CHECK(mc::validate_colouring(c, w.adj, w.free).empty());
       CHECK(c.n_colours >= 2);
       CHECK(c.n_colours <= 8);  // running bond has degree <= 6 inside; greedy needs <= 7
@@ -46,8 +46,8 @@ TEST_CASE("balanced colouring evens out colour sizes", "[mc][colouring]") {
       if (col >= 0) ++n[col];
     return n;
   };
-  const auto nat = sizes(mc::colour_graph("natural", w.adj, w.free, 1));
-  const auto bal = sizes(mc::colour_graph("balanced", w.adj, w.free, 1));
+  const auto nat = sizes(mc::colour_graph("natural", w.s, w.adj, w.free, 1));
+  const auto bal = sizes(mc::colour_graph("balanced", w.s, w.adj, w.free, 1));
   auto spread = [](const std::vector<int>& v) {
     return *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end());
   };
@@ -56,7 +56,7 @@ TEST_CASE("balanced colouring evens out colour sizes", "[mc][colouring]") {
 
 TEST_CASE("validation catches neighbours that share a colour", "[mc][colouring]") {
   const Wall w = wall(0.0);
-  auto c = mc::colour_graph("natural", w.adj, w.free, 1);
+  auto c = mc::colour_graph("natural", w.s, w.adj, w.free, 1);
   // find a free brick with a free neighbour and give both the same colour
   for (std::size_t i = 0; i < w.free.size(); ++i) {
     if (!w.free[i]) continue;

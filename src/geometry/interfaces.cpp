@@ -55,7 +55,19 @@ Interfaces find_interfaces(Specimen& s, const deck::Geometry& g) {
     f.nx.push_back(nxv), f.ny.push_back(nyv), f.length.push_back(len);
   };
 
+  // bounding boxes: most candidate pairs from the 3x3 cells do not even touch
+  std::vector<double> bx0(n), bx1(n), by0(n), by1(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    bx0[i] = by0[i] = 1e300, bx1[i] = by1[i] = -1e300;
+    for (int v = s.poly_offset[i]; v < s.poly_offset[i + 1]; ++v) {
+      bx0[i] = std::min(bx0[i], s.vx[v]), bx1[i] = std::max(bx1[i], s.vx[v]);
+      by0[i] = std::min(by0[i], s.vy[v]), by1[i] = std::max(by1[i], s.vy[v]);
+    }
+  }
+  const double touch = 1e3 * eps;
   auto match = [&](int a, int b) {
+    if (bx0[b] > bx1[a] + touch || bx0[a] > bx1[b] + touch || by0[b] > by1[a] + touch || by0[a] > by1[b] + touch)
+      return;
     if (s.parent[a] == s.parent[b]) return;  // two halves of a notch-split brick: the notch
     for (int i = s.poly_offset[a]; i < s.poly_offset[a + 1]; ++i) {
       const int i1 = (i + 1 == s.poly_offset[a + 1]) ? s.poly_offset[a] : i + 1;

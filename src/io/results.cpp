@@ -88,10 +88,10 @@ void RunWriter::dump(int step, mc::Solver& solver) {
   std::vector<double> energy(n), pts(2 * s_.vx.size()), ipts(4 * ni), ienergy(ni);
   std::vector<std::int8_t> istate(ni);
   for (int k = 0; k < m.n_bricks; ++k) energy[m.perm[k]] = 0.5 * hbe(k);
-  for (std::size_t i = 0; i < ni; ++i) ienergy[i] = hie(i), istate[i] = his(i);
+  for (std::size_t i = 0; i < ni; ++i) ienergy[m.iface_perm[i]] = hie(i), istate[m.iface_perm[i]] = his(i);
   auto moved = [&](std::size_t b, double px, double py, double& ox, double& oy) {
     double dx, dy;
-    cohesive::point_displacement({x[b], y[b], t[b]}, px - s_.cx[b], py - s_.cy[b], dx, dy);
+    cohesive::point_displacement(cohesive::Pose{x[b], y[b], t[b]}, px - s_.cx[b], py - s_.cy[b], dx, dy);
     ox = px + dx, oy = py + dy;
   };
   for (std::size_t b = 0; b < n; ++b)

@@ -1,6 +1,7 @@
 #include <nacre/mc/colouring.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -8,12 +9,38 @@
 namespace nacre::mc {
 
 const std::vector<std::string>& colouring_strategies() {
-  static const std::vector<std::string> s{"natural", "largest-first", "balanced", "random"};
+  static const std::vector<std::string> s{"natural", "largest-first", "balanced", "random", "tiles"};
   return s;
 }
 
-Colouring colour_graph(const std::string& strategy, const geometry::Adjacency& adj,
-                       const std::vector<bool>& free, std::uint64_t seed) {
+namespace {
+Colouring colour_tiles(const geometry::Specimen& s, const std::vector<bool>& free) {
+  // Tile side: about 16 x 16 brick areas, and at least twice the largest brick extent, so two
+  // tiles of one checkerboard colour (one tile apart) can never hold neighbouring bricks.
+  double extent = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (int v = s.poly_offset[i]; v < s.poly_offset[i + 1]; ++v)
+      extent = std::max(extent, std::hypot(s.vx[v] - s.cx[i], s.vy[v] - s.cy[i]));
+  const double side = std::max(4.0 * extent, 16.0 * std::sqrt(s.full_brick_area));
+  const int nx = std::max(1, static_cast<int>(std::ceil(s.width / side)));
+  Colouring c;
+  c.name = "tiles";
+  c.colour.assign(s.size(), -1);
+  c.tile.assign(s.size(), -1);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!free[i]) continue;
+    const int tx = std::max(0, static_cast<int>(s.cx[i] / side)), ty = std::max(0, static_cast<int>(s.cy[i] / side));
+    c.colour[i] = (ty % 2) * 2 + (tx % 2);
+    c.tile[i] = ty * nx + tx;
+    c.n_colours = std::max(c.n_colours, c.colour[i] + 1);
+  }
+  return c;
+}
+}  // namespace
+
+Colouring colour_graph(const std::string& strategy, const geometry::Specimen& s,
+                       const geometry::Adjacency& adj, const std::vector<bool>& free, std::uint64_t seed) {
+  if (strategy == "tiles") return colour_tiles(s, free);
   const std::size_t n = free.size();
   std::vector<int> order;
   order.reserve(n);
@@ -31,6 +58,7 @@ Colouring colour_graph(const std::string& strategy, const geometry::Adjacency& a
   Colouring c;
   c.name = strategy;
   c.colour.assign(n, -1);
+  c.tile.assign(n, -1);
   std::vector<int> used_by(64, -1), size;  // used_by[col] == i: col taken by a neighbour of i
   for (int i : order) {
     for (int j = adj.offset[i]; j < adj.offset[i + 1]; ++j) {
@@ -69,7 +97,7 @@ std::string validate_colouring(const Colouring& c, const geometry::Adjacency& ad
     }
     if (ci < 0 || ci >= c.n_colours) return "free brick " + std::to_string(i) + " has no valid colour";
     for (int j = adj.offset[i]; j < adj.offset[i + 1]; ++j)
-      if (c.colour[adj.neighbour[j]] == ci)
+      if (c.colour[adj.neighbour[j]] == ci && (c.tile[i] < 0 || c.tile[i] != c.tile[adj.neighbour[j]]))
         return "bricks " + std::to_string(i) + " and " + std::to_string(adj.neighbour[j]) +
                " share an interface and colour " + std::to_string(ci);
   }

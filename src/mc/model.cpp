@@ -2,8 +2,18 @@
 
 #include <algorithm>
 #include <numeric>
+#include <tuple>
 
 namespace nacre::mc {
+
+namespace {
+void alloc_tile_offset(Model<>& m, const std::vector<int>& toff) {
+  m.tile_offset = Kokkos::View<int*>("nacre::mc::tile_offset", toff.size());
+  auto h = Kokkos::create_mirror_view(m.tile_offset);
+  for (std::size_t i = 0; i < toff.size(); ++i) h(i) = toff[i];
+  Kokkos::deep_copy(m.tile_offset, h);
+}
+}  // namespace
 
 Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
                     const Colouring& colouring, const deck::Mortar& mortar, int quadrature_points) {
@@ -17,29 +27,55 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
   m.law[1] = mortar.head;
   m.quad = cohesive::gauss_legendre(quadrature_points);
 
-  // Sweep order: free bricks by colour (stable: wall order inside a colour keeps neighbours of
-  // neighbours close in memory), then the driven bricks.
+  // Sweep order: free bricks by (colour, tile, wall order), then the driven bricks. Wall order
+  // inside a colour or tile keeps neighbours of neighbours close in memory.
+  m.perm.resize(n);
+  std::iota(m.perm.begin(), m.perm.end(), 0);
+  auto key = [&](int i) {
+    const int c = colouring.colour[i];
+    return std::make_tuple(c < 0 ? colouring.n_colours : c, colouring.tile[i], i);
+  };
+  std::sort(m.perm.begin(), m.perm.end(), [&](int a, int b) { return key(a) < key(b); });
   m.colour_offset.assign(colouring.n_colours + 1, 0);
   for (int i = 0; i < n; ++i)
     if (colouring.colour[i] >= 0) ++m.colour_offset[colouring.colour[i] + 1];
   for (int c = 0; c < colouring.n_colours; ++c) m.colour_offset[c + 1] += m.colour_offset[c];
   m.n_free = m.colour_offset.back();
-  m.perm.resize(n);
-  {
-    std::vector<int> fill(m.colour_offset.begin(), m.colour_offset.end() - 1);
-    int driven = m.n_free;
-    for (int i = 0; i < n; ++i) {
-      const int c = colouring.colour[i];
-      m.perm[c >= 0 ? fill[c]++ : driven++] = i;
+  // work items: a new one starts at each colour boundary, at each tile change, and at every
+  // brick that has no tile
+  std::vector<int> toff{0};
+  m.colour_tiles.assign(1, 0);
+  for (int c = 0; c < colouring.n_colours; ++c) {
+    for (int k = m.colour_offset[c]; k < m.colour_offset[c + 1]; ++k) {
+      const int t = colouring.tile[m.perm[k]];
+      const bool last = k + 1 == m.colour_offset[c + 1];
+      if (t < 0 || last || colouring.tile[m.perm[k + 1]] != t) toff.push_back(k + 1);
     }
+    m.colour_tiles.push_back(static_cast<int>(toff.size()) - 1);
   }
+  alloc_tile_offset(m, toff);
   std::vector<int> inv(n);
   for (int k = 0; k < n; ++k) inv[m.perm[k]] = k;
+
+  // Interfaces are renumbered in the order the sweep first touches them (bricks in sweep order,
+  // each brick's interfaces in turn), so the largest colours stream through the interface
+  // array instead of hopping across it. iperm[new] = old.
+  const auto adj0 = geometry::build_adjacency(s.size(), f);
+  std::vector<int> iperm;
+  iperm.reserve(ni);
+  {
+    std::vector<char> seen(ni, 0);
+    for (int k = 0; k < n; ++k) {
+      const int b = m.perm[k];
+      for (int j = adj0.offset[b]; j < adj0.offset[b + 1]; ++j)
+        if (!seen[adj0.iface[j]]) seen[adj0.iface[j]] = 1, iperm.push_back(adj0.iface[j]);
+    }
+  }
 
   auto alloc = [](auto& v, const char* label, std::size_t len) {
     v = std::remove_reference_t<decltype(v)>(Kokkos::view_alloc(std::string("nacre::mc::") + label), len);
   };
-  alloc(m.x, "x", n), alloc(m.y, "y", n), alloc(m.t, "t", n);
+  alloc(m.pose, "pose", n);
   alloc(m.cx, "cx", n), alloc(m.cy, "cy", n), alloc(m.drive, "drive", n), alloc(m.id, "id", n);
   alloc(m.phi0, "phi0", n);
   alloc(m.adj_offset, "adj_offset", n + 1);
@@ -58,12 +94,14 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
   auto hseg = Kokkos::create_mirror_view(m.seg);
   auto hkind = Kokkos::create_mirror_view(m.kind);
   for (int i = 0; i < ni; ++i) {
-    hends(i, 0) = inv[f.a[i]], hends(i, 1) = inv[f.b[i]];
-    hkind(i) = static_cast<std::uint8_t>(f.kind[i]);
-    const double v[SEG_COLS] = {f.ra0x[i], f.ra0y[i], f.ra1x[i], f.ra1y[i], f.rb0x[i], f.rb0y[i],
-                                f.rb1x[i], f.rb1y[i], f.nx[i],   f.ny[i],   f.length[i]};
+    const int o = iperm[i];
+    hends(i, 0) = inv[f.a[o]], hends(i, 1) = inv[f.b[o]];
+    hkind(i) = static_cast<std::uint8_t>(f.kind[o]);
+    const double v[SEG_COLS] = {f.ra0x[o], f.ra0y[o], f.ra1x[o], f.ra1y[o], f.rb0x[o], f.rb0y[o],
+                                f.rb1x[o], f.rb1y[o], f.nx[o],   f.ny[o],   f.length[o]};
     for (int c = 0; c < SEG_COLS; ++c) hseg(i, c) = v[c];
   }
+  m.iface_perm = iperm;
   // CSR in sweep order, and the predictor's reference energy phi0 (all interfaces at x1).
   auto hoff = Kokkos::create_mirror_view(m.adj_offset);
   auto hphi0 = Kokkos::create_mirror_view(m.phi0);
@@ -80,7 +118,7 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
       const int k = hends(i, side);
       hadj(fill[k]++) = i;
       const auto& law = m.law[hkind(i)];
-      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * f.length[i];
+      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, LEN);
     }
   Kokkos::deep_copy(m.cx, hcx), Kokkos::deep_copy(m.cy, hcy), Kokkos::deep_copy(m.drive, hdrive);
   Kokkos::deep_copy(m.id, hid), Kokkos::deep_copy(m.ends, hends), Kokkos::deep_copy(m.seg, hseg);

@@ -29,7 +29,7 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
   const auto adj = geometry::build_adjacency(s.size(), f);
   const auto free = free_flags(s);
   auto colour = [&](const std::string& name) {
-    Colouring c = colour_graph(name, adj, free, d.seed);
+    Colouring c = colour_graph(name, s, adj, free, d.seed);
     if (auto err = validate_colouring(c, adj, free); !err.empty())
       throw std::logic_error("colouring '" + name + "' is invalid: " + err);
     return c;
@@ -76,10 +76,8 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
 void Solver::allocate_work() {
   u_ = rng::UniformTable<>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::mc::uniforms"), m_.n_free);
   const auto n = static_cast<std::size_t>(m_.n_bricks);
-  prev_x_ = Field<double>("nacre::mc::prev_x", n), prev_y_ = Field<double>("nacre::mc::prev_y", n);
-  prev_t_ = Field<double>("nacre::mc::prev_t", n);
-  save_x_ = Field<double>("nacre::mc::save_x", n), save_y_ = Field<double>("nacre::mc::save_y", n);
-  save_t_ = Field<double>("nacre::mc::save_t", n);
+  prev_pose_ = Model<>::PoseView("nacre::mc::prev_pose", n);
+  save_pose_ = Model<>::PoseView("nacre::mc::save_pose", n);
   phi_ = Field<double>("nacre::mc::phi", n);
   de_ = Field<double>("nacre::mc::delta_energy", static_cast<std::size_t>(m_.n_free));
 }
@@ -129,8 +127,8 @@ long Solver::cycle() {
   {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::sweep");
     const double T = deck_.solver.temperature;
-    for (std::size_t c = 0; c + 1 < m_.colour_offset.size(); ++c)
-      accepted += sweep_colour(m_, m_.colour_offset[c], m_.colour_offset[c + 1], u_, de_, step_, rot_step_, T);
+    for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
+      accepted += sweep_colour(m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T);
     auto d = de_;
     de = deterministic_sum("nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
                            KOKKOS_LAMBDA(const int b) { return d(b); });
@@ -181,7 +179,7 @@ long Solver::relax(bool& converged) {
 void Solver::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
   brick_energy(m_, phi_);
-  predict_poses(m_, prev_x_, prev_y_, prev_t_, phi_, ratio);
+  predict_poses(m_, prev_pose_, phi_, ratio);
 }
 
 void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
@@ -201,7 +199,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     Kokkos::Timer timer;
     double inc_now = std::min(inc, final_d - D_);
     const double D0 = D_;
-    Kokkos::deep_copy(save_x_, m_.x), Kokkos::deep_copy(save_y_, m_.y), Kokkos::deep_copy(save_t_, m_.t);
+    Kokkos::deep_copy(save_pose_, m_.pose);
     int reverts = 0;
     long cycles = 0;
     bool converged = false;
@@ -216,7 +214,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       cycle_limit_ = 0;
       if (may_revert && !converged && cycles >= static_cast<long>(c_u)) {
         // eq. 2.9: back to the last converged state, retry with a smaller increment
-        Kokkos::deep_copy(m_.x, save_x_), Kokkos::deep_copy(m_.y, save_y_), Kokkos::deep_copy(m_.t, save_t_);
+        Kokkos::deep_copy(m_.pose, save_pose_);
         inc_now = std::max(L.min_step, inc_now * (2.0 / 3.0) * c_t / c_u);
         ++reverts;
         if (log_) *log_ << "  step " << step + 1 << ": no convergence in " << cycles
@@ -225,7 +223,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       }
       break;
     }
-    Kokkos::deep_copy(prev_x_, save_x_), Kokkos::deep_copy(prev_y_, save_y_), Kokkos::deep_copy(prev_t_, save_t_);
+    Kokkos::deep_copy(prev_pose_, save_pose_);
     have_prev = true;
     inc_prev = inc_now;
     if (L.adaptive) inc = std::clamp(inc_now * c_t / std::max<long>(cycles, 1), L.min_step, L.max_step);
@@ -250,13 +248,11 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
 }
 
 void Solver::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
-  auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.x);
-  auto hy = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.y);
-  auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.t);
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
   x.assign(m_.n_bricks, 0), y.assign(m_.n_bricks, 0), t.assign(m_.n_bricks, 0);
   for (int k = 0; k < m_.n_bricks; ++k) {
     const int i = m_.perm[k];
-    x[i] = hx(k), y[i] = hy(k), t[i] = ht(k);
+    x[i] = hp(k, 0), y[i] = hp(k, 1), t[i] = hp(k, 2);
   }
 }
 

@@ -5,19 +5,34 @@ find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 
 set(_nacre_aes_env "OMP_PROC_BIND=false;NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 
-# Cipher: FIPS-197 vectors, the circuit, OpenSSL equality. Registered for the default thread
-# count by nacre_add_test and again for 1 and 2 threads explicitly.
+# Cipher: FIPS-197 vectors, the circuit, OpenSSL equality. Generators: determinism,
+# independence, uniformity and serial-correlation smoke tests (label rng). Each is registered for
+# the default thread count by nacre_add_test and again for 1 and 2 threads explicitly.
 nacre_add_test(test_aes LABELS aes SOURCES aes/test_aes.cpp LIBS OpenSSL::Crypto)
-# Generators: determinism, independence, uniformity and serial-correlation smoke tests.
-nacre_add_test(test_aes_sources LABELS aes rng SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
+nacre_add_test(test_aes_sources LABELS aes SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
 foreach(_t 1 2)
-  catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]"
-    EXTRA_ARGS --kokkos-num-threads=${_t}
-    PROPERTIES LABELS "aes;threads" ENVIRONMENT "${_nacre_aes_env}")
+  catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]" TEST_LIST nacre_test_aes_${_t}t
+    EXTRA_ARGS --kokkos-num-threads=${_t} PROPERTIES ENVIRONMENT "${_nacre_aes_env}")
   catch_discover_tests(test_aes_sources TEST_SUFFIX " [${_t} thread(s)]"
-    EXTRA_ARGS --kokkos-num-threads=${_t}
-    PROPERTIES LABELS "aes;rng;threads" ENVIRONMENT "${_nacre_aes_env}")
+    TEST_LIST nacre_test_aes_sources_${_t}t
+    EXTRA_ARGS --kokkos-num-threads=${_t} PROPERTIES ENVIRONMENT "${_nacre_aes_env}")
 endforeach()
+# Several labels per discovered test: catch_discover_tests flattens a LABELS list into separate
+# arguments, so the labels are set by a CTest include file that runs after the discovery files.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/nacre_aes_test_labels.cmake [=[
+foreach(_v test_aes_TESTS nacre_test_aes_1t nacre_test_aes_2t)
+  if(DEFINED ${_v})
+    set_tests_properties(${${_v}} PROPERTIES LABELS "aes")
+  endif()
+endforeach()
+foreach(_v test_aes_sources_TESTS nacre_test_aes_sources_1t nacre_test_aes_sources_2t)
+  if(DEFINED ${_v})
+    set_tests_properties(${${_v}} PROPERTIES LABELS "aes;rng")
+  endif()
+endforeach()
+]=])
+set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES
+  ${CMAKE_CURRENT_BINARY_DIR}/nacre_aes_test_labels.cmake)
 
 # Constant time under valgrind memcheck: key and plaintext are marked undefined; memcheck
 # reports any conditional jump or memory address computed from them. nacre's AES must pass,

@@ -10,7 +10,7 @@
 /// kBlocks<W> blocks is 128 words, word k = 8*byte + bit holding bit `bit` (LSB = 0) of state
 /// byte `byte` (FIPS-197 order: byte = row + 4*column) of every block, one block per bit of W.
 /// Consequences:
-///   * SubBytes is the Boyar–Peralta Boolean circuit (113 gates: 32 AND, 77 XOR, 4 XNOR) applied
+///   * SubBytes is the Boyar–Peralta Boolean circuit (115 gates: 32 AND, 79 XOR, 4 XNOR) applied
 ///     to the 8 words of each byte position, 16 times per round;
 ///   * ShiftRows is a renaming of words (no instruction at all);
 ///   * MixColumns is XORs only (xtime of a bitsliced byte is a renaming plus 3 XORs);
@@ -216,8 +216,9 @@ using HostWord = std::uint64_t;
 /// \brief The AES S-box on 8 bitsliced words, q[0] = least significant bit ... q[7] = most.
 ///
 /// Circuit: J. Boyar and R. Peralta, "A new combinational logic minimization technique with
-/// applications to cryptology", SEA 2010 / IACR ePrint 2009/191 (113 gates: top linear layer,
-/// the shared GF(2^4) inversion core with 32 ANDs, bottom linear layer), in the transcription
+/// applications to cryptology", SEA 2010 / IACR ePrint 2009/191: 115 gates (32 AND, 79 XOR,
+/// 4 XNOR) in three layers: a linear top layer (23 XOR), the shared non-linear core (32 AND,
+/// 30 XOR) and a linear bottom layer (26 XOR, 4 XNOR); in the transcription
 /// used by BearSSL's constant-time AES (aes_ct.c): there x0 is the most significant input bit and
 /// s0 the most significant output bit. Verified exhaustively against the S-box in the tests.
 template <class W>

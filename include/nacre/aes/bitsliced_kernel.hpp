@@ -111,8 +111,9 @@ void run_bitsliced(const ExecSpace& space, const char* label,
   const std::size_t nchunks = (nblocks + chunk_blocks - 1) / chunk_blocks;
   // Enough teams to fill the machine several times over; each team reuses its scratch keys
   // for all the chunks it takes.
-  const std::size_t max_league =
-      std::size_t(space.concurrency()) / std::size_t(team_size) * 8 + 1;
+  // (A multiple of the thread count, so statically scheduled CPU teams get equal shares.)
+  std::size_t max_league = std::size_t(space.concurrency()) / std::size_t(team_size) * 8;
+  if (max_league == 0) max_league = 1;
   const int league = int(nchunks < max_league ? nchunks : max_league);
   Kokkos::TeamPolicy<ExecSpace> policy(space, league, team_size);
   policy.set_scratch_size(0, Kokkos::PerTeam(K::scratch_bytes(team_size)));

@@ -47,6 +47,12 @@ KOKKOS_INLINE_FUNCTION double g_slope(const Law& m, double x) {
   return 0.375 * m.k * x * r2 * r2;  // d/dx (k x^6 / (16 x1^4)) = 6 k x^5 / (16 x1^4)
 }
 
+/// \brief f from the squared separation: the elastic branch (the common case) needs no sqrt.
+KOKKOS_INLINE_FUNCTION double f_energy_sq(const Law& m, double d2) {
+  if (d2 <= m.x1 * m.x1) return 0.5 * m.k * d2;
+  return f_energy(m, Kokkos::sqrt(d2));
+}
+
 /// \brief Energy density at relative displacement (dn, dt): f(|d|) + g(dn).
 KOKKOS_INLINE_FUNCTION double energy_density(const Law& m, double dn, double dt) {
   return f_energy(m, Kokkos::sqrt(dn * dn + dt * dt)) + g_energy(m, dn);

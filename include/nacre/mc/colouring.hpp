@@ -11,9 +11,16 @@
 namespace nacre::mc {
 
 /// \brief A colouring of the bricks flagged free; driven bricks get colour -1.
+///
+/// Colours are swept one after another; inside a colour, work items run in parallel. A work
+/// item is a single brick (graph colourings, one thread per brick: what GPUs want) or a tile of
+/// bricks swept in wall order by one thread (the "tiles" strategy: a 2 x 2 checkerboard of
+/// square tiles, wider than any brick, so same-colour tiles never touch; what CPU caches want).
+/// Either way no two neighbours are ever updated at the same time.
 struct Colouring {
   std::string name;
   std::vector<int> colour;  ///< per brick, -1 for bricks that are not swept
+  std::vector<int> tile;    ///< per brick: its tile, or -1 when each brick is its own work item
   int n_colours = 0;
 };
 
@@ -21,15 +28,17 @@ struct Colouring {
 /// "balanced" which picks, among the allowed colours, the least used so far.
 /// natural: wall order (rows), keeps neighbours close in memory;
 /// largest-first: decreasing degree (Welsh-Powell), usually fewest colours;
-/// random: a seeded random order; balanced: near-equal colour sizes (even parallel work).
-[[nodiscard]] Colouring colour_graph(const std::string& strategy, const geometry::Adjacency& adj,
-                                     const std::vector<bool>& free, std::uint64_t seed);
+/// random: a seeded random order; balanced: near-equal colour sizes (even parallel work);
+/// tiles: checkerboard of tiles of about 256 bricks (see Colouring).
+[[nodiscard]] Colouring colour_graph(const std::string& strategy, const geometry::Specimen& s,
+                                     const geometry::Adjacency& adj, const std::vector<bool>& free,
+                                     std::uint64_t seed);
 
 /// \brief The strategies colour_graph knows, in the order the pre-simulation tries them.
 [[nodiscard]] const std::vector<std::string>& colouring_strategies();
 
 /// \brief Empty string when valid, else a description of the first violation (two neighbours
-/// with one colour, a free brick without colour, a colour out of range).
+/// with one colour in different work items, a free brick without colour, a colour out of range).
 [[nodiscard]] std::string validate_colouring(const Colouring& c, const geometry::Adjacency& adj,
                                              const std::vector<bool>& free);
 

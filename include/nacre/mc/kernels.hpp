@@ -9,12 +9,10 @@
 
 namespace nacre::mc {
 
-/// \brief Poses of interface i's two bricks.
-template <class M>
-KOKKOS_INLINE_FUNCTION void interface_poses(const M& x, const M& y, const M& t, int a, int b,
-                                            cohesive::Pose& pa, cohesive::Pose& pb) {
-  pa = cohesive::Pose{x(a), y(a), t(a)};
-  pb = cohesive::Pose{x(b), y(b), t(b)};
+/// \brief Pose of brick b.
+template <class PV>
+KOKKOS_INLINE_FUNCTION cohesive::Pose pose_of(const PV& p, int b) {
+  return cohesive::Pose{p(b, 0), p(b, 1), p(b, 2)};
 }
 
 /// \brief Total energy: sum over interfaces (deterministic: same bits for any thread count).
@@ -22,7 +20,7 @@ template <class ExecutionSpace = ExecSpace>
 double total_energy(const Model<typename ExecutionSpace::memory_space>& m,
                     SumWorkspace<typename ExecutionSpace::memory_space>& ws) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto x = m.x, y = m.y, t = m.t;
+  auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
@@ -30,8 +28,7 @@ double total_energy(const Model<typename ExecutionSpace::memory_space>& m,
   const cohesive::Quadrature q = m.quad;
   return deterministic_sum<ExecutionSpace>(
       "nacre::mc::total_energy", ws, 0, m.n_interfaces, KOKKOS_LAMBDA(const int i) {
-        cohesive::Pose pa, pb;
-        interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+        const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
         return cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
       });
 }
@@ -42,7 +39,7 @@ template <class ExecutionSpace = ExecSpace>
 void brick_energy(const Model<typename ExecutionSpace::memory_space>& m,
                   Field<double, typename ExecutionSpace::memory_space> full) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto x = m.x, y = m.y, t = m.t;
+  auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
@@ -55,8 +52,7 @@ void brick_energy(const Model<typename ExecutionSpace::memory_space>& m,
         double e = 0;
         for (int j = off(b); j < off(b + 1); ++j) {
           const int i = adj(j);
-          cohesive::Pose pa, pb;
-          interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+          const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
           e += cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
         }
         full(b) = e;
@@ -69,7 +65,7 @@ int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
                     Field<double, typename ExecutionSpace::memory_space> energy,
                     Field<std::int8_t, typename ExecutionSpace::memory_space> state) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto x = m.x, y = m.y, t = m.t;
+  auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
@@ -79,8 +75,7 @@ int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
   Kokkos::parallel_reduce(
       "nacre::mc::interface_state", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_interfaces),
       KOKKOS_LAMBDA(const int i, int& acc) {
-        cohesive::Pose pa, pb;
-        interface_poses(x, y, t, ends(i, 0), ends(i, 1), pa, pb);
+        const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
         const auto& law = kind(i) ? l1 : l0;
         const cohesive::Segment sg = load_segment(seg, i);
         const cohesive::Gap g = cohesive::interface_gap(sg, pa, pb);
@@ -111,18 +106,20 @@ struct LoadPattern {
 
 template <class ExecutionSpace = ExecSpace>
 void apply_load(const Model<typename ExecutionSpace::memory_space>& m, const LoadPattern& lp, double D) {
-  auto x = m.x, y = m.y, t = m.t, cx = m.cx;
+  auto p = m.pose;
+  auto cx = m.cx;
   auto drive = m.drive;
   Kokkos::parallel_for(
       "nacre::mc::apply_load", Kokkos::RangePolicy<ExecutionSpace>(m.n_free, m.n_bricks),
       KOKKOS_LAMBDA(const int b) {
-        const cohesive::Pose p = lp.pose(drive(b), cx(b), D);
-        x(b) = p.x, y(b) = p.y, t(b) = p.t;
+        const cohesive::Pose q = lp.pose(drive(b), cx(b), D);
+        p(b, 0) = q.x, p(b, 1) = q.y, p(b, 2) = q.t;
       });
 }
 
-/// \brief One Metropolis trial per brick of one colour (MODEL.md §3). Same-colour bricks share
-/// no interface, so the trials are independent; u(i, 0..3) holds the brick's four uniforms.
+/// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
+/// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
+/// share no interface, so the trials are independent; u(b, 0..3) holds brick b's uniforms.
 /// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
 /// returned (an integer reduction, exact for any thread count).
 template <class ExecutionSpace = ExecSpace>
@@ -130,45 +127,49 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
                   rng::UniformTable<typename ExecutionSpace::memory_space> u,
                   Field<double, typename ExecutionSpace::memory_space> de, double step,
                   double rot_step, double temperature) {
-  auto x = m.x, y = m.y, t = m.t;
+  auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
   auto off = m.adj_offset, adj = m.adj_iface;
+  auto tiles = m.tile_offset;
   const cohesive::Law l0 = m.law[0], l1 = m.law[1];
   const cohesive::Quadrature q = m.quad;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   long accepted = 0;
   Kokkos::parallel_reduce(
       "nacre::mc::sweep_colour", Kokkos::RangePolicy<ExecutionSpace>(begin, end),
-      KOKKOS_LAMBDA(const int b, long& acc) {
-        const cohesive::Pose old{x(b), y(b), t(b)};
+      KOKKOS_LAMBDA(const int w, long& acc) {
+       for (int b = tiles(w); b < tiles(w + 1); ++b) {
+        const cohesive::Pose old = pose_of(p, b);
         const cohesive::Pose trial{old.x + step * (2.0 * u(b, 0) - 1.0),
                                    old.y + step * (2.0 * u(b, 1) - 1.0),
                                    old.t + rot_step * (2.0 * u(b, 2) - 1.0)};
+        const cohesive::Frame f_old = cohesive::make_frame(old), f_new = cohesive::make_frame(trial);
         double e_old = 0, e_new = 0;
         for (int j = off(b); j < off(b + 1); ++j) {
           const int i = adj(j);
           const int a = ends(i, 0), c = ends(i, 1);
           const int o = (a == b) ? c : a;
-          const cohesive::Pose po{x(o), y(o), t(o)};
+          const cohesive::Frame fo = cohesive::make_frame(pose_of(p, o));
           const cohesive::Segment sg = load_segment(seg, i);
           const auto& law = kind(i) ? l1 : l0;
           if (a == b) {
-            e_old += cohesive::interface_energy(law, q, sg, old, po);
-            e_new += cohesive::interface_energy(law, q, sg, trial, po);
+            e_old += cohesive::interface_energy(law, q, sg, f_old, fo);
+            e_new += cohesive::interface_energy(law, q, sg, f_new, fo);
           } else {
-            e_old += cohesive::interface_energy(law, q, sg, po, old);
-            e_new += cohesive::interface_energy(law, q, sg, po, trial);
+            e_old += cohesive::interface_energy(law, q, sg, fo, f_old);
+            e_new += cohesive::interface_energy(law, q, sg, fo, f_new);
           }
         }
         const double d = e_new - e_old;
         const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
         if (accept) {
-          x(b) = trial.x, y(b) = trial.y, t(b) = trial.t;
+          p(b, 0) = trial.x, p(b, 1) = trial.y, p(b, 2) = trial.t;
           acc += 1;
         }
         de(b) = accept ? d : 0.0;
+       }
       },
       accepted);
   return accepted;
@@ -179,18 +180,15 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
 /// to constant prediction as the brick approaches its elastic limit. ratio = D_{n+1} / D_n.
 template <class ExecutionSpace = ExecSpace>
 void predict_poses(const Model<typename ExecutionSpace::memory_space>& m,
-                   Field<double, typename ExecutionSpace::memory_space> px,
-                   Field<double, typename ExecutionSpace::memory_space> py,
-                   Field<double, typename ExecutionSpace::memory_space> pt,
+                   typename Model<typename ExecutionSpace::memory_space>::PoseView prev,
                    Field<double, typename ExecutionSpace::memory_space> phi, double ratio) {
-  auto x = m.x, y = m.y, t = m.t, phi0 = m.phi0;
+  auto p = m.pose;
+  auto phi0 = m.phi0;
   Kokkos::parallel_for(
       "nacre::mc::predict", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_free), KOKKOS_LAMBDA(const int b) {
         const double r = phi0(b) > 0 ? phi(b) / phi0(b) : 0.0;
         const double mfac = 1.0 - 1.8 * (Kokkos::fmax(Kokkos::fmin(r, 1.0), 0.5) - 0.5);
-        x(b) += ratio * (x(b) - px(b)) * mfac;
-        y(b) += ratio * (y(b) - py(b)) * mfac;
-        t(b) += ratio * (t(b) - pt(b)) * mfac;
+        for (int k = 0; k < 3; ++k) p(b, k) += ratio * (p(b, k) - prev(b, k)) * mfac;
       });
 }
 

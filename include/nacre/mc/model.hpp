@@ -19,26 +19,37 @@ struct Model {
   static_assert(Kokkos::is_memory_space_v<MemorySpace>, "Model needs a Kokkos memory space");
   using memory_space = MemorySpace;
 
-  // ---- bricks (structure of arrays: a sweep reads pose components of consecutive bricks)
-  Field<double, MemorySpace> x, y, t;  ///< pose: centroid displacement and rotation
+  /// \brief Pose (x, y, theta) per brick. LayoutRight keeps a brick's three numbers together:
+  /// the sweep gathers neighbour poses by index, and one gather then touches one cache line (CPU)
+  /// or one 32-byte sector (GPU) instead of three.
+  using PoseView = Kokkos::View<double* [3], Kokkos::LayoutRight, MemorySpace>;
+
+  // ---- bricks (structure of arrays for everything read per brick in sweep order)
+  PoseView pose;
   Field<double, MemorySpace> cx, cy;   ///< reference centroid (where the load is evaluated)
   Kokkos::View<std::int8_t*, MemorySpace> drive;   ///< -1 bottom, 0 free, +1 top
   Kokkos::View<std::uint64_t*, MemorySpace> id;    ///< original brick index = RNG stream id
   Kokkos::View<int*, MemorySpace> adj_offset, adj_iface;  ///< CSR brick -> interfaces
   Field<double, MemorySpace> phi0;     ///< energy of all the brick's interfaces at x1 (predictor)
 
-  // ---- interfaces. LayoutLeft: column c of seg is contiguous, so thread i reading seg(i, c)
-  // next to thread i+1 coalesces on GPUs; a CPU sweep gathers ~6 interfaces per brick anyway.
-  Kokkos::View<int* [2], Kokkos::LayoutLeft, MemorySpace> ends;       ///< bricks a, b
-  Kokkos::View<double* [SEG_COLS], Kokkos::LayoutLeft, MemorySpace> seg;
+  // ---- interfaces. LayoutRight: the sweep, where the time goes, gathers the interfaces of a
+  // brick by index, so an interface's 11 numbers should share two cache lines rather than sit
+  // in 11 columns (LayoutLeft would coalesce only the rarely called loop over all interfaces).
+  Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> ends;       ///< bricks a, b
+  Kokkos::View<double* [SEG_COLS], Kokkos::LayoutRight, MemorySpace> seg;
   Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< 0 bed, 1 head (selects the law)
 
   cohesive::Law law[2];        ///< one law per joint kind, shared by all interfaces of the kind
   cohesive::Quadrature quad;
 
   // ---- host-side bookkeeping
+  /// \brief Work items (tiles) in sweep order: bricks of tile w are [tile_offset(w), tile_offset(w+1)).
+  Kokkos::View<int*, MemorySpace> tile_offset;
+
   std::vector<int> colour_offset;  ///< bricks of colour c: [colour_offset[c], colour_offset[c+1])
+  std::vector<int> colour_tiles;   ///< tiles of colour c: [colour_tiles[c], colour_tiles[c+1])
   std::vector<int> perm;           ///< perm[sweep index] = original brick index
+  std::vector<int> iface_perm;     ///< iface_perm[model interface] = original interface index
   int n_free = 0, n_bricks = 0, n_interfaces = 0;
   std::string colouring_name;
 };

@@ -83,7 +83,8 @@ private:
   rng::UniformTable<> u_;
   SumWorkspace<> sum_ws_;
   Field<double> de_;  ///< accepted energy change per free brick in the current cycle
-  Field<double> prev_x_, prev_y_, prev_t_, save_x_, save_y_, save_t_, phi_;
+  Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
+  Field<double> phi_;
   ConvergenceMonitor monitor_;
   std::vector<std::pair<std::string, double>> presim_;
   PhaseTimes times_;

@@ -1,0 +1,60 @@
+// Initialisation time against specimen size (Fig. 2.9's O(N) claim): wall construction,
+// interface search, colouring and model upload, for 10k .. 1M bricks.
+//   nacre_perf_init --bricks 10000,100000,1000000 --csv FILE
+#include <nacre/geometry/specimen.hpp>
+#include <nacre/mc/model.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+
+using namespace nacre;
+
+int main(int argc, char* argv[]) {
+  std::vector<char*> kargs{argv[0]}, aargs{argv[0]};
+  for (int i = 1; i < argc; ++i) (std::string_view(argv[i]).starts_with("--kokkos-") ? kargs : aargs).push_back(argv[i]);
+  CLI::App cli{"nacre initialisation scaling"};
+  std::vector<long> sizes{10000, 30000, 100000, 300000, 1000000};
+  std::string csv = "init_scaling.csv";
+  cli.add_option("--bricks", sizes)->delimiter(',');
+  cli.add_option("--csv", csv);
+  CLI11_PARSE(cli, static_cast<int>(aargs.size()), aargs.data());
+  int kargc = static_cast<int>(kargs.size());
+  Kokkos::ScopeGuard guard(kargc, kargs.data());
+  std::ofstream out(csv);
+  out << "bricks,interfaces,specimen_s,interfaces_s,colouring_s,model_s,total_s\n";
+  using clk = std::chrono::steady_clock;
+  auto since = [](clk::time_point t) { return std::chrono::duration<double>(clk::now() - t).count(); };
+  for (long n : sizes) {
+    deck::Deck d;
+    const double area = 3.5 * static_cast<double>(n);
+    d.geometry.height = std::floor(std::sqrt(area / 1.5));
+    d.geometry.width = area / d.geometry.height;
+    d.geometry.angle_deg = 30.0;  // rotated: every boundary brick is clipped
+    d.geometry.notch_length = 0.4 * d.geometry.width;
+    d.geometry.notch_y = 0.5 * d.geometry.height;
+    auto t = clk::now();
+    auto s = geometry::build_specimen(d.geometry);
+    const double ts = since(t);
+    t = clk::now();
+    auto f = geometry::find_interfaces(s, d.geometry);
+    const double ti = since(t);
+    t = clk::now();
+    auto adj = geometry::build_adjacency(s.size(), f);
+    std::vector<bool> free(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) free[i] = s.drive[i] == geometry::Drive::free;
+    auto c = mc::colour_graph("natural", s, adj, free, 1);
+    const double tc = since(t);
+    t = clk::now();
+    auto m = mc::build_model(s, f, c, d.mortar, 4);
+    Kokkos::fence();
+    const double tm = since(t);
+    out << s.size() << "," << f.size() << "," << ts << "," << ti << "," << tc << "," << tm << "," << ts + ti + tc + tm << "\n";
+    std::cout << s.size() << " bricks, " << f.size() << " interfaces: " << ts + ti + tc + tm << " s (specimen " << ts
+              << ", interfaces " << ti << ", colouring " << tc << ", model " << tm << ")\n";
+  }
+  return 0;
+}

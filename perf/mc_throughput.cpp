@@ -1,0 +1,170 @@
+// Sweep throughput (brick trials per second) of nacre's colour-parallel Kokkos sweep against a
+// plain serial reference written the obvious way: array of structs, bricks visited in wall
+// order (no colouring), std::mt19937_64 for the random numbers. Same physics (the same cohesive
+// functions), same specimen, same temperature and step sizes.
+//
+//   nacre_perf_mc --bricks 10000,100000,300000 --cycles 20 [--reference] --csv FILE
+//
+// Run it once per thread count (--kokkos-num-threads=N); perf/run_mc_bench.sh does that and
+// charts the result.
+#include <nacre/geometry/specimen.hpp>
+#include <nacre/mc/solver.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+
+using namespace nacre;
+
+namespace {
+
+deck::Deck deck_for(long bricks) {
+  deck::Deck d;
+  // specimen of ~`bricks` bricks, 3:2 aspect, brick 3.5 x 1
+  const double area = 3.5 * static_cast<double>(bricks);
+  d.geometry.height = std::floor(std::sqrt(area / 1.5));
+  d.geometry.width = area / d.geometry.height;
+  d.geometry.notch_length = 0.4 * d.geometry.width;
+  d.geometry.notch_y = std::floor(0.5 * d.geometry.height);
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  d.solver.temperature = 1e-7;
+  d.solver.step = d.solver.min_step = d.solver.max_step = 2e-5;
+  d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-5;
+  d.solver.colouring = "natural";
+  return d;
+}
+
+// ---------------------------------------------------------------- the serial reference
+struct RefBrick {
+  double x, y, t;
+  bool free;
+  std::vector<int> ifaces;
+};
+struct RefIface {
+  int a, b;
+  cohesive::Segment seg;
+  cohesive::Law law;
+};
+
+double reference_run(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+                     double load, int cycles, long& trials, double& energy_out) {
+  std::vector<RefBrick> bricks(s.size());
+  std::vector<RefIface> ifs(f.size());
+  const mc::LoadPattern lp{d.load.tension, d.load.bending, d.geometry.width};
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    bricks[i].free = s.drive[i] == geometry::Drive::free;
+    const auto p = bricks[i].free ? cohesive::Pose{0, 0, 0} : lp.pose(static_cast<int>(s.drive[i]), s.cx[i], load);
+    bricks[i].x = p.x, bricks[i].y = p.y, bricks[i].t = p.t;
+  }
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    ifs[i] = {f.a[i], f.b[i],
+              {f.ra0x[i], f.ra0y[i], f.ra1x[i], f.ra1y[i], f.rb0x[i], f.rb0y[i], f.rb1x[i], f.rb1y[i], f.nx[i],
+               f.ny[i], f.length[i]},
+              f.kind[i] == geometry::JointKind::bed ? d.mortar.bed : d.mortar.head};
+    bricks[f.a[i]].ifaces.push_back(static_cast<int>(i));
+    bricks[f.b[i]].ifaces.push_back(static_cast<int>(i));
+  }
+  const auto q = cohesive::gauss_legendre(d.solver.quadrature_points);
+  std::mt19937_64 gen(d.seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double T = d.solver.temperature, st = d.solver.step, sr = d.solver.rot_step;
+  // the reference gets the same one-trigonometry-per-pose evaluation as nacre's kernel
+  auto brick_energy = [&](std::size_t b, const cohesive::Pose& pose) {
+    const cohesive::Frame p = cohesive::make_frame(pose);
+    double e = 0;
+    for (int i : bricks[b].ifaces) {
+      const auto& in = ifs[i];
+      const auto& o = bricks[in.a == static_cast<int>(b) ? in.b : in.a];
+      const cohesive::Frame po = cohesive::make_frame({o.x, o.y, o.t});
+      e += in.a == static_cast<int>(b) ? cohesive::interface_energy(in.law, q, in.seg, p, po)
+                                       : cohesive::interface_energy(in.law, q, in.seg, po, p);
+    }
+    return e;
+  };
+  trials = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int c = 0; c < cycles; ++c)
+    for (std::size_t b = 0; b < bricks.size(); ++b) {
+      if (!bricks[b].free) continue;
+      const cohesive::Pose old{bricks[b].x, bricks[b].y, bricks[b].t};
+      const cohesive::Pose trial{old.x + st * (2 * U(gen) - 1), old.y + st * (2 * U(gen) - 1), old.t + sr * (2 * U(gen) - 1)};
+      const double dE = brick_energy(b, trial) - brick_energy(b, old);
+      if (dE <= 0 || U(gen) < std::exp(-dE / T)) bricks[b].x = trial.x, bricks[b].y = trial.y, bricks[b].t = trial.t;
+      ++trials;
+    }
+  const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  double e = 0;
+  for (const auto& in : ifs) {
+    const auto &A = bricks[in.a], &B = bricks[in.b];
+    e += cohesive::interface_energy(in.law, q, in.seg, cohesive::Pose{A.x, A.y, A.t}, cohesive::Pose{B.x, B.y, B.t});
+  }
+  energy_out = e;
+  return sec;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  std::vector<char*> kargs{argv[0]}, aargs{argv[0]};
+  for (int i = 1; i < argc; ++i) (std::string_view(argv[i]).starts_with("--kokkos-") ? kargs : aargs).push_back(argv[i]);
+  CLI::App cli{"nacre MC sweep throughput"};
+  std::vector<long> sizes{10000, 100000, 300000};
+  int cycles = 20;
+  bool reference = false;
+  std::vector<std::string> colourings{"tiles", "natural"};
+  std::string csv = "mc_throughput.csv";
+  cli.add_option("--bricks", sizes, "specimen sizes (bricks)")->delimiter(',');
+  cli.add_option("--cycles", cycles, "timed cycles per size");
+  cli.add_flag("--reference", reference, "also time the serial array-of-structs reference");
+  cli.add_option("--colouring", colourings, "sweep schedules to time")->delimiter(',');
+  cli.add_option("--csv", csv, "append results to this CSV");
+  CLI11_PARSE(cli, static_cast<int>(aargs.size()), aargs.data());
+  int kargc = static_cast<int>(kargs.size());
+  Kokkos::ScopeGuard guard(kargc, kargs.data());
+  const int threads = Kokkos::DefaultExecutionSpace().concurrency();
+  const bool header = !std::ifstream(csv).good();
+  std::ofstream out(csv, std::ios::app);
+  if (header) out << "bricks,free_bricks,implementation,threads,cycles,seconds,trials_per_second,sweep_seconds,rng_seconds,energy_after\n";
+  for (long n : sizes) {
+    const deck::Deck d = deck_for(n);
+    auto s = geometry::build_specimen(d.geometry);
+    auto f = geometry::find_interfaces(s, d.geometry);
+    const double load = 0.002;
+    for (const auto& colouring : colourings) {
+      deck::Deck dc = d;
+      dc.solver.colouring = colouring;
+      mc::Solver solver(dc, s, f);
+      solver.set_load(load);
+      solver.cycle();  // warm-up
+      Kokkos::fence();
+      const mc::PhaseTimes before = solver.times();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int c = 0; c < cycles; ++c) solver.cycle();
+      Kokkos::fence();
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const long trials = static_cast<long>(solver.model().n_free) * cycles;
+      out << s.size() << "," << solver.model().n_free << ",nacre-" << colouring << "," << threads << "," << cycles << "," << sec << ","
+          << trials / sec << "," << solver.times().sweep - before.sweep << "," << solver.times().rng - before.rng << ","
+          << solver.energy() << "\n";
+      std::cout << "nacre-" << colouring << " " << s.size() << " bricks, " << threads << " threads: " << trials / sec / 1e6
+                << " M trials/s\n";
+    }
+    if (reference) {
+      long trials = 0;
+      double e = 0;
+      // the reference warms up too (one cycle), then the same number of timed cycles
+      reference_run(d, s, f, load, 1, trials, e);
+      const double sec = reference_run(d, s, f, load, cycles, trials, e);
+      out << s.size() << "," << trials / cycles << ",reference,1," << cycles << "," << sec << "," << trials / sec
+          << "," << sec << ",0," << e << "\n";
+      std::cout << "reference " << s.size() << " bricks, 1 thread: " << trials / sec / 1e6 << " M trials/s\n";
+    }
+  }
+  return 0;
+}
