@@ -122,6 +122,25 @@ void bench_openssl(const Options& o) {
   EVP_CIPHER_CTX_free(ctx);
 }
 
+/// Random123's Philox4x32-10 with nacre's (stream, 2 draw + half) counter mapping. (A named
+/// functor rather than a lambda: device lambdas may not be nested in other lambdas.)
+struct Random123Fill {
+  nacre::rng::UniformTable<> u;
+  std::uint64_t seed, d;
+  KOKKOS_INLINE_FUNCTION void operator()(const std::size_t i) const {
+    r123::Philox4x32 g;
+    const r123::Philox4x32::key_type k = {{std::uint32_t(seed), std::uint32_t(seed >> 32)}};
+    for (int h = 0; h < 2; ++h) {
+      const std::uint64_t c = 2 * d + std::uint64_t(h);
+      const r123::Philox4x32::ctr_type ctr = {{std::uint32_t(i), std::uint32_t(std::uint64_t(i) >> 32),
+                                              std::uint32_t(c), std::uint32_t(c >> 32)}};
+      const auto r = g(ctr, k);
+      u(i, 2 * h) = nacre::rng::to_unit_double((std::uint64_t(r.v[1]) << 32) | r.v[0]);
+      u(i, 2 * h + 1) = nacre::rng::to_unit_double((std::uint64_t(r.v[3]) << 32) | r.v[2]);
+    }
+  }
+};
+
 void bench_rng(const Options& o) {
   const int threads = nacre::ExecSpace().concurrency();
   const std::size_t n = o.streams;
@@ -135,22 +154,8 @@ void bench_rng(const Options& o) {
   {  // Random123's Philox4x32-10 (the reference implementation), 4 doubles per stream and draw.
     std::uint64_t draw = 0;
     const auto [reps, sec] = time_it(o.min_time, [&] {
-      const std::uint64_t d = draw++;
-      Kokkos::parallel_for(
-          "random123_philox", Kokkos::RangePolicy<nacre::ExecSpace>(0, n),
-          KOKKOS_LAMBDA(const std::size_t i) {
-            r123::Philox4x32 g;
-            const r123::Philox4x32::key_type k = {{std::uint32_t(seed), std::uint32_t(seed >> 32)}};
-            for (int h = 0; h < 2; ++h) {
-              const std::uint64_t c = 2 * d + std::uint64_t(h);
-              const r123::Philox4x32::ctr_type ctr = {
-                  {std::uint32_t(i), std::uint32_t(std::uint64_t(i) >> 32), std::uint32_t(c),
-                   std::uint32_t(c >> 32)}};
-              const auto r = g(ctr, k);
-              u(i, 2 * h) = nacre::rng::to_unit_double((std::uint64_t(r.v[1]) << 32) | r.v[0]);
-              u(i, 2 * h + 1) = nacre::rng::to_unit_double((std::uint64_t(r.v[3]) << 32) | r.v[2]);
-            }
-          });
+      Kokkos::parallel_for("random123_philox", Kokkos::RangePolicy<nacre::ExecSpace>(0, n),
+                           Random123Fill{u, seed, draw++});
       Kokkos::fence();
     });
     row("rng", "random123-philox", threads, 0, numbers * reps, sec, double(numbers) * reps / sec,

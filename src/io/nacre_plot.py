@@ -53,23 +53,35 @@ def main(out):
         ipts = d["/interfaces/points"][:].reshape(-1, 2, 2)
         state = d["/interfaces/state"][:]
         disp = d.attrs["displacement"]
+        ref = m["/bricks/reference_points"][:]
+        iref = m["/interfaces/reference_points"][:].reshape(-1, 2, 2)
+    # displacements are tiny next to a brick: magnify them so the crack opening shows
+    u = pts - ref
+    umax = np.abs(u).max()
+    h = np.sqrt(np.median(area))
+    mag = 0.3 * h / umax if umax > 0 else 1.0
+    pts = ref + mag * u
     polys, i = [], 0
     while i < len(topo):
         n = topo[i + 1]
         polys.append(pts[topo[i + 2:i + 2 + n]])
         i += 2 + n
-    density = energy / area
-    fig, ax = plt.subplots(figsize=(8, 8))
-    pc = PolyCollection(polys, array=density, cmap="viridis", edgecolors="none")
+    density = np.maximum(energy / area, 1e-12)
+    fig, ax = plt.subplots(figsize=(9, 6))
+    from matplotlib.colors import LogNorm
+    pc = PolyCollection(polys, array=density, cmap="viridis", edgecolors="none",
+                        norm=LogNorm(vmin=max(density.max() * 1e-4, 1e-12), vmax=density.max()))
     ax.add_collection(pc)
     fig.colorbar(pc, ax=ax, shrink=0.7, label="brick energy / area")
+    ipts = iref + mag * (ipts - iref)
     broken = ipts[state == 2]
     ax.add_collection(LineCollection(broken, colors="red", linewidths=1.2, label="ruptured"))
     soft = ipts[state == 1]
     ax.add_collection(LineCollection(soft, colors="orange", linewidths=0.6, label="softening"))
     ax.autoscale()
     ax.set_aspect("equal")
-    ax.set_title(f"D = {disp:.4g}: {len(broken)} ruptured (red), {len(soft)} softening (orange)")
+    ax.set_title(f"D = {disp:.4g} (displacements x{mag:.0f}): {len(broken)} ruptured (red), "
+                 f"{len(soft)} softening (orange)")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "crack.png"), dpi=120)
     plt.close(fig)

@@ -55,6 +55,13 @@ RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
     h.write("/interfaces/bricks", ends, 2);
     h.write("/interfaces/kind", kind);
     h.write("/interfaces/length", f.length);
+    std::vector<double> iref(4 * f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const double cx = s.cx[f.a[i]], cy = s.cy[f.a[i]];
+      iref[4 * i] = cx + f.ra0x[i], iref[4 * i + 1] = cy + f.ra0y[i];
+      iref[4 * i + 2] = cx + f.ra1x[i], iref[4 * i + 3] = cy + f.ra1y[i];
+    }
+    h.write("/interfaces/reference_points", iref, 2);
     h.attribute("width", s.width);
     h.attribute("height", s.height);
   }
