@@ -25,6 +25,14 @@ RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
                      const mc::Model<>&)
     : deck_(d), s_(s), f_(f), dir_(d.output.directory), csv_(csv_header()) {
   std::filesystem::create_directories(dir_);
+  // A new run owns the directory's nacre files: dumps of an earlier run would otherwise sit
+  // beside the new ones (and be plotted). Other files are left alone.
+  for (const auto& e : std::filesystem::directory_iterator(dir_)) {
+    const std::string n = e.path().filename().string();
+    const bool ours = (n.starts_with("dump_") && n.ends_with(".h5")) || n == "mesh.h5" || n == "nacre.xdmf" ||
+                      n == "steps.csv" || n == "summary.json" || n == "energy_force.png" || n == "crack.png";
+    if (ours && e.is_regular_file()) std::filesystem::remove(e.path());
+  }
   if (!d.output.hdf5) return;
   // Static mesh: XDMF "Mixed" topology, each polygon as [3 (polygon), n, v0 .. v(n-1)].
   AtomicPath ap(dir_ / "mesh.h5");
