@@ -1,5 +1,6 @@
 // Monte Carlo solver: the elastic limit against an exact linear solve, energy bookkeeping,
 // determinism (same bits for 1 and 2 threads: see tests/CMakeLists.txt).
+#include <nacre/io/results.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <Eigen/Sparse>
@@ -9,6 +10,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -211,4 +213,50 @@ TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-co
     fingerprints << colouring << " " << std::hex << h1 << "\n";
   }
   if (const char* out = std::getenv("NACRE_HASH_OUT")) std::ofstream(out) << fingerprints.str();
+}
+
+TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][restart]") {
+  auto d = small_deck();
+  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  d.load.final_displacement = 0.02;
+  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
+  d.load.adaptive = true, d.load.predictor = true;
+  d.solver.temperature = 1e-7;
+  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
+  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  d.solver.adapt_interval = 7;  // adaptation windows straddle load steps
+  d.solver.window_size = 60, d.solver.convergence_rep = 20;
+  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+  d.solver.colouring = "tiles";
+  auto st = make(d);
+  std::vector<mc::StepRecord> full;
+  mc::Checkpoint cp;
+  {
+    mc::Solver solver(d, st.s, st.f);
+    solver.run([&](const mc::StepRecord& r) {
+      full.push_back(r);
+      if (r.step == 2) cp = solver.checkpoint();
+    });
+  }
+  REQUIRE(full.size() > 3);
+  // through a file, as the app does
+  const auto path = std::filesystem::temp_directory_path() / "nacre_test_checkpoint.h5";
+  io::RunWriter::write_checkpoint(path, cp);
+  const mc::Checkpoint back = io::RunWriter::read_checkpoint(path);
+  std::filesystem::remove(path);
+  CHECK(back.pose == cp.pose);
+  CHECK(back.global_cycle == cp.global_cycle);
+  mc::Solver resumed(d, st.s, st.f);
+  resumed.restore(back);
+  std::vector<mc::StepRecord> rest;
+  resumed.run([&](const mc::StepRecord& r) { rest.push_back(r); });
+  REQUIRE(rest.size() == full.size() - 2);
+  for (std::size_t i = 0; i < rest.size(); ++i) {
+    CHECK(rest[i].step == full[i + 2].step);
+    CHECK(rest[i].energy == full[i + 2].energy);  // bit for bit
+    CHECK(rest[i].cycles == full[i + 2].cycles);
+    CHECK(rest[i].displacement == full[i + 2].displacement);
+  }
 }

@@ -30,7 +30,7 @@ std::string hms(double s) {
   return b;
 }
 
-int run_deck(const deck::Deck& d, bool quiet, bool tty) {
+int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
@@ -47,8 +47,18 @@ int run_deck(const deck::Deck& d, bool quiet, bool tty) {
     *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
          << " interfaces (" << elapsed() << " s), " << Kokkos::DefaultExecutionSpace::name() << " with "
          << Kokkos::DefaultExecutionSpace().concurrency() << " threads\n";
+  mc::Checkpoint cp;
+  if (!restart.empty()) {
+    cp = io::RunWriter::read_checkpoint(restart);
+    d.solver.colouring = cp.colouring;  // the run continues with the schedule it started with
+  }
   mc::Solver solver(d, specimen, interfaces, log);
-  io::RunWriter writer(d, specimen, interfaces, solver.model());
+  if (!restart.empty()) {
+    solver.restore(cp);
+    if (log) *log << "nacre: restarting from " << restart << " at step " << cp.run.step << ", D = " << cp.displacement
+                  << ", cycle " << cp.global_cycle << "\n";
+  }
+  io::RunWriter writer(d, specimen, interfaces, solver.model(), restart.empty() ? -1 : cp.run.step);
   const bool progress = tty && d.output.progress && !quiet;
   int current_step = 0;
   const double t_run = elapsed();
@@ -61,7 +71,7 @@ int run_deck(const deck::Deck& d, bool quiet, bool tty) {
     std::fflush(stderr);
   };
   if (progress) solver.on_progress = progress_line;
-  writer.dump(0, solver);
+  if (restart.empty()) writer.dump(0, solver);
   solver.run([&](const mc::StepRecord& r) {
     current_step = r.step;
     writer.step(r);
@@ -107,10 +117,13 @@ int main(int argc, char* argv[]) {
   std::string deck_path;
   std::string out_override;
   bool quiet = false, check_only = false;
+  std::string restart;
   cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
   cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
   cli.add_flag("-q,--quiet", quiet, "no log lines or progress");
   cli.add_flag("--check", check_only, "validate the deck and exit");
+  cli.add_option("--restart", restart, "continue a run from its checkpoint.h5 (written at every dump)")
+      ->check(CLI::ExistingFile);
   cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
@@ -134,7 +147,7 @@ int main(int argc, char* argv[]) {
   int kargc = static_cast<int>(kokkos_args.size());
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   try {
-    return run_deck(d, quiet, ::isatty(STDERR_FILENO) != 0);
+    return run_deck(d, quiet, ::isatty(STDERR_FILENO) != 0, restart);
   } catch (const std::exception& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";
     return 1;

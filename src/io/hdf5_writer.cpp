@@ -109,4 +109,24 @@ double h5_read_attribute(const std::string& path, const std::string& name) {
   return v;
 }
 
+std::string h5_read_string_attribute(const std::string& path, const std::string& name) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
+  const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+  std::string v;
+  herr_t e = -1;
+  if (a >= 0) {
+    const hid_t type = H5Aget_type(a);
+    const std::size_t n = H5Tget_size(type);
+    std::vector<char> buf(n + 1, '\0');
+    e = H5Aread(a, type, buf.data());
+    v = buf.data();
+    H5Tclose(type);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  check(e, "cannot read attribute " + name);
+  return v;
+}
+
 }  // namespace nacre::io

@@ -2,7 +2,9 @@
 #include <nacre/io/hdf5_writer.hpp>
 #include <nacre/io/results.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <cstdio>
 #include <sstream>
 
@@ -22,15 +24,38 @@ std::string RunWriter::csv_header() {
 }
 
 RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-                     const mc::Model<>&)
+                     const mc::Model<>&, int resume_step)
     : deck_(d), s_(s), f_(f), dir_(d.output.directory), csv_(csv_header()) {
   std::filesystem::create_directories(dir_);
+  if (resume_step >= 0) {
+    // A restart keeps the rows and dumps up to the checkpoint's step and drops later ones.
+    std::ifstream in(dir_ / "steps.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      if (line.empty() || std::stoi(line.substr(0, line.find(','))) > resume_step) break;
+      csv_ += line + "\n";
+    }
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir_)) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& p : files) {
+      const std::string n = p.filename().string();
+      if (!(n.starts_with("dump_") && n.ends_with(".h5"))) continue;
+      const int step = std::stoi(n.substr(5, n.size() - 8));
+      if (step > resume_step) std::filesystem::remove(p);
+      else dumps_.push_back({step, h5_read_attribute(p.string(), "displacement"), n});
+    }
+    write_file_atomic(dir_ / "steps.csv", csv_);
+    return;
+  }
   // A new run owns the directory's nacre files: dumps of an earlier run would otherwise sit
   // beside the new ones (and be plotted). Other files are left alone.
   for (const auto& e : std::filesystem::directory_iterator(dir_)) {
     const std::string n = e.path().filename().string();
     const bool ours = (n.starts_with("dump_") && n.ends_with(".h5")) || n == "mesh.h5" || n == "nacre.xdmf" ||
-                      n == "steps.csv" || n == "summary.json" || n == "energy_force.png" || n == "crack.png";
+                      n == "steps.csv" || n == "summary.json" || n == "energy_force.png" || n == "crack.png" ||
+                      n == "checkpoint.h5";
     if (ours && e.is_regular_file()) std::filesystem::remove(e.path());
   }
   if (!d.output.hdf5) return;
@@ -140,6 +165,52 @@ void RunWriter::dump(int step, mc::Solver& solver) {
   ap.commit();
   dumps_.push_back({step, solver.load(), name});
   write_xdmf();
+  write_checkpoint(dir_ / "checkpoint.h5", solver.checkpoint());
+}
+
+void RunWriter::write_checkpoint(const std::filesystem::path& path, const mc::Checkpoint& c) {
+  AtomicPath ap(path);
+  {
+    H5Writer h(ap.temp().string());
+    h.attribute("colouring", c.colouring);
+    h.attribute("step", static_cast<std::int64_t>(c.run.step));
+    h.attribute("increment", c.run.increment);
+    h.attribute("previous_increment", c.run.previous_increment);
+    h.attribute("have_previous", static_cast<std::int64_t>(c.run.have_previous));
+    h.attribute("displacement", c.displacement);
+    h.attribute("step_size", c.step_size);
+    h.attribute("rot_step", c.rot_step);
+    h.attribute("global_cycle", static_cast<std::int64_t>(c.global_cycle));
+    h.attribute("accepted_total", static_cast<std::int64_t>(c.accepted_total));
+    h.attribute("trials_total", static_cast<std::int64_t>(c.trials_total));
+    h.attribute("window_accepted", static_cast<std::int64_t>(c.window_accepted));
+    h.attribute("window_trials", static_cast<std::int64_t>(c.window_trials));
+    h.write("/pose", c.pose, 3);
+    h.write("/previous_pose", c.previous_pose, 3);
+  }
+  ap.commit();
+}
+
+mc::Checkpoint RunWriter::read_checkpoint(const std::filesystem::path& path) {
+  const std::string p = path.string();
+  auto i64 = [&](const char* n) { return static_cast<long>(h5_read_attribute(p, n)); };
+  mc::Checkpoint c;
+  c.colouring = h5_read_string_attribute(p, "colouring");
+  c.run.step = static_cast<int>(i64("step"));
+  c.run.increment = h5_read_attribute(p, "increment");
+  c.run.previous_increment = h5_read_attribute(p, "previous_increment");
+  c.run.have_previous = i64("have_previous") != 0;
+  c.displacement = h5_read_attribute(p, "displacement");
+  c.step_size = h5_read_attribute(p, "step_size");
+  c.rot_step = h5_read_attribute(p, "rot_step");
+  c.global_cycle = static_cast<std::uint64_t>(i64("global_cycle"));
+  c.accepted_total = i64("accepted_total");
+  c.trials_total = i64("trials_total");
+  c.window_accepted = i64("window_accepted");
+  c.window_trials = i64("window_trials");
+  c.pose = h5_read_doubles(p, "/pose");
+  c.previous_pose = h5_read_doubles(p, "/previous_pose");
+  return c;
 }
 
 void RunWriter::write_xdmf() const {

@@ -200,10 +200,12 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   // ConvergenceRep (documented in docs/decks.md).
   const double c_t = S.window_mul * S.convergence_rep;
   const double c_u = S.window_upper_mul * S.convergence_rep;
-  double inc = L.initial_step, inc_prev = 0;
-  bool have_prev = false;
+  if (run_.step == 0 && run_.increment == 0) run_.increment = L.initial_step;
+  double& inc = run_.increment;
+  double& inc_prev = run_.previous_increment;
+  bool& have_prev = run_.have_previous;
+  int& step = run_.step;
   const double final_d = L.final_displacement;
-  int step = 0;
   while (D_ < final_d * (1 - 1e-12)) {
     Kokkos::Timer timer;
     double inc_now = std::min(inc, final_d - D_);
@@ -254,6 +256,61 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     r.seconds = timer.seconds();
     if (on_step) on_step(r);
   }
+}
+
+namespace {
+template <class PV>
+std::vector<double> to_original_order(const PV& v, const std::vector<int>& perm) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  std::vector<double> out(3 * perm.size());
+  for (std::size_t k = 0; k < perm.size(); ++k)
+    for (int c = 0; c < 3; ++c) out[3 * perm[k] + c] = h(k, c);
+  return out;
+}
+template <class PV>
+void from_original_order(const std::vector<double>& in, const std::vector<int>& perm, const PV& v) {
+  if (in.size() != 3 * perm.size()) throw std::runtime_error("checkpoint does not match the specimen");
+  auto h = Kokkos::create_mirror_view(v);
+  for (std::size_t k = 0; k < perm.size(); ++k)
+    for (int c = 0; c < 3; ++c) h(k, c) = in[3 * perm[k] + c];
+  Kokkos::deep_copy(v, h);
+}
+}  // namespace
+
+Checkpoint Solver::checkpoint() const {
+  Checkpoint c;
+  c.colouring = m_.colouring_name;
+  c.run = run_;
+  c.displacement = D_;
+  c.step_size = step_;
+  c.rot_step = rot_step_;
+  c.global_cycle = global_cycle_;
+  c.accepted_total = accepted_total_;
+  c.trials_total = trials_total_;
+  c.window_accepted = window_accepted_;
+  c.window_trials = window_trials_;
+  c.pose = to_original_order(m_.pose, m_.perm);
+  c.previous_pose = to_original_order(prev_pose_, m_.perm);
+  return c;
+}
+
+void Solver::restore(const Checkpoint& c) {
+  if (c.colouring != m_.colouring_name)
+    throw std::runtime_error("checkpoint was made with colouring '" + c.colouring + "', solver uses '" +
+                             m_.colouring_name + "'");
+  from_original_order(c.pose, m_.perm, m_.pose);
+  from_original_order(c.previous_pose, m_.perm, prev_pose_);
+  run_ = c.run;
+  D_ = c.displacement;
+  step_ = c.step_size;
+  rot_step_ = c.rot_step;
+  global_cycle_ = c.global_cycle;
+  accepted_total_ = c.accepted_total;
+  trials_total_ = c.trials_total;
+  window_accepted_ = c.window_accepted;
+  window_trials_ = c.window_trials;
+  set_load(D_);  // driven bricks exactly where the load puts them
+  E_ = energy();
 }
 
 void Solver::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {

@@ -16,16 +16,21 @@ namespace nacre::io {
 
 class RunWriter {
 public:
-  /// \brief Creates the directory and writes mesh.h5 (call only after the deck validated).
+  /// \brief Creates the directory and writes mesh.h5 (call only after the deck validated). With
+  /// `resume_step` >= 0 (a restart) the outputs of steps up to it are kept and later ones removed.
   RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-            const mc::Model<>& m);
+            const mc::Model<>& m, int resume_step = -1);
 
   void step(const mc::StepRecord& r);
+  /// \brief HDF5 dump of the current state, and checkpoint.h5 beside it.
   void dump(int step, mc::Solver& solver);
   void summary(const mc::Solver& solver, double seconds, const std::string& extra_json);
 
   [[nodiscard]] const std::filesystem::path& directory() const { return dir_; }
   [[nodiscard]] static std::string csv_header();
+
+  static void write_checkpoint(const std::filesystem::path& path, const mc::Checkpoint& c);
+  [[nodiscard]] static mc::Checkpoint read_checkpoint(const std::filesystem::path& path);
 
 private:
   void write_xdmf() const;

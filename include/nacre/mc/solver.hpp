@@ -28,6 +28,25 @@ struct StepRecord {
   double seconds = 0;
 };
 
+/// \brief Where the loading programme stands between load steps (all a restart needs besides the
+/// poses, the step sizes and the cycle counter).
+struct RunState {
+  int step = 0;                   ///< load steps done
+  double increment = 0;           ///< next load increment (0: not started)
+  double previous_increment = 0;  ///< increment of the last step (predictor ratio)
+  bool have_previous = false;     ///< previous converged poses exist (predictor)
+};
+
+/// \brief Everything a checkpoint holds: restarting from it continues the run bit for bit.
+struct Checkpoint {
+  std::string colouring;
+  RunState run;
+  double displacement = 0, step_size = 0, rot_step = 0;
+  std::uint64_t global_cycle = 0;
+  long accepted_total = 0, trials_total = 0, window_accepted = 0, window_trials = 0;
+  std::vector<double> pose, previous_pose;  ///< n x 3, original brick order
+};
+
 /// \brief Wall time per phase (fenced), the split of Fig. 2.12.
 struct PhaseTimes {
   double rng = 0, sweep = 0, energy = 0, other = 0;
@@ -57,8 +76,15 @@ public:
   long cycle();
   /// \brief Relax at the current load until converged or max_cycles; returns cycles done.
   long relax(bool& converged);
-  /// \brief Apply the whole loading programme of the deck; calls on_step after each increment.
+  /// \brief Apply the (rest of the) loading programme of the deck; calls on_step after each
+  /// increment.
   void run(const std::function<void(const StepRecord&)>& on_step);
+
+  /// \brief Snapshot for a restart (taken between load steps, e.g. from on_step).
+  [[nodiscard]] Checkpoint checkpoint() const;
+  /// \brief Continue from a checkpoint (the solver must have been built with its colouring).
+  void restore(const Checkpoint& c);
+  [[nodiscard]] const RunState& run_state() const { return run_; }
 
   /// \brief Called every ~1000 cycles inside a step with (cycles so far, energy) for progress.
   std::function<void(long, double)> on_progress;
@@ -91,7 +117,8 @@ private:
   double D_ = 0, E_ = 0, step_, rot_step_;
   long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
   long accepted_total_ = 0, trials_total_ = 0;
-  long cycle_limit_ = 0;  ///< > 0: relax() gives up after this many cycles (backtracking)
+  long cycle_limit_ = 0;
+  RunState run_;  ///< > 0: relax() gives up after this many cycles (backtracking)
   std::uint64_t global_cycle_ = 0;
   std::ostream* log_;
 };
