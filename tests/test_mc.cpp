@@ -92,6 +92,21 @@ double exact_elastic_energy(const deck::Deck& d, const geometry::Specimen& s, co
   return 0.5 * q.dot(K * q);
 }
 
+/// A notched specimen that cracks within a few adaptive load steps, with predictor.
+deck::Deck cracking_deck() {
+  auto d = small_deck();
+  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  d.load.final_displacement = 0.02;
+  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
+  d.load.adaptive = true, d.load.predictor = true;
+  d.solver.temperature = 1e-7;
+  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
+  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  return d;
+}
+
 struct Setup {
   deck::Deck d;
   geometry::Specimen s;
@@ -171,16 +186,7 @@ TEST_CASE("reaction = dE/dD of the relaxed energy (envelope theorem)", "[mc][phy
 
 TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-count comparison",
           "[mc][determinism]") {
-  auto d = small_deck();
-  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
-  d.load.final_displacement = 0.02;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  auto d = cracking_deck();
   d.solver.adapt_interval = 20;
   d.solver.window_size = 60, d.solver.convergence_rep = 20;
   d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
@@ -216,16 +222,7 @@ TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-co
 }
 
 TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][restart]") {
-  auto d = small_deck();
-  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
-  d.load.final_displacement = 0.02;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  auto d = cracking_deck();
   d.solver.adapt_interval = 7;  // adaptation windows straddle load steps
   d.solver.window_size = 60, d.solver.convergence_rep = 20;
   d.solver.window_mul = 10, d.solver.window_upper_mul = 40;

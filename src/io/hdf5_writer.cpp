@@ -48,34 +48,25 @@ void H5Writer::write(const std::string& n, const std::vector<std::int32_t>& v, s
 void H5Writer::write(const std::string& n, const std::vector<std::int64_t>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_INT64); }
 void H5Writer::write(const std::string& n, const std::vector<std::int8_t>& v, std::size_t c) { write_impl(n, v, c, H5T_NATIVE_INT8); }
 
-void H5Writer::attribute(const std::string& name, double v) {
+namespace {
+void scalar_attribute(hid_t file, const std::string& name, hid_t type, const void* v) {
   const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t e = H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
-  H5Aclose(a);
+  const hid_t a = H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t e = a < 0 ? -1 : H5Awrite(a, type, v);
+  if (a >= 0) H5Aclose(a);
   H5Sclose(space);
   check(e, "attribute " + name);
 }
+}  // namespace
 
-void H5Writer::attribute(const std::string& name, std::int64_t v) {
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(file_, name.c_str(), H5T_NATIVE_INT64, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t e = H5Awrite(a, H5T_NATIVE_INT64, &v);
-  H5Aclose(a);
-  H5Sclose(space);
-  check(e, "attribute " + name);
-}
+void H5Writer::attribute(const std::string& name, double v) { scalar_attribute(file_, name, H5T_NATIVE_DOUBLE, &v); }
+void H5Writer::attribute(const std::string& name, std::int64_t v) { scalar_attribute(file_, name, H5T_NATIVE_INT64, &v); }
 
 void H5Writer::attribute(const std::string& name, const std::string& v) {
   const hid_t type = H5Tcopy(H5T_C_S1);
   H5Tset_size(type, v.size() + 1);
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t e = H5Awrite(a, type, v.c_str());
-  H5Aclose(a);
-  H5Sclose(space);
+  scalar_attribute(file_, name, type, v.c_str());
   H5Tclose(type);
-  check(e, "attribute " + name);
 }
 
 std::vector<double> h5_read_doubles(const std::string& path, const std::string& name) {

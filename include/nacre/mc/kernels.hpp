@@ -15,22 +15,38 @@ KOKKOS_INLINE_FUNCTION cohesive::Pose pose_of(const PV& p, int b) {
   return cohesive::Pose{p(b, 0), p(b, 1), p(b, 2)};
 }
 
+/// \brief What the energy kernels read of the model, copied by value into a lambda (Views are
+/// handles; the two laws and the quadrature rule are a few doubles): one place that evaluates an
+/// interface at the current poses.
+template <class MemorySpace>
+struct InterfaceEvaluator {
+  typename Model<MemorySpace>::PoseView pose;
+  decltype(Model<MemorySpace>::ends) ends;
+  decltype(Model<MemorySpace>::seg) seg;
+  decltype(Model<MemorySpace>::kind) kind;
+  cohesive::Law law0, law1;
+  cohesive::Quadrature quad;
+
+  explicit InterfaceEvaluator(const Model<MemorySpace>& m)
+      : pose(m.pose), ends(m.ends), seg(m.seg), kind(m.kind), law0(m.law[0]), law1(m.law[1]), quad(m.quad) {}
+
+  KOKKOS_INLINE_FUNCTION const cohesive::Law& law(int i) const { return kind(i) ? law1 : law0; }
+  KOKKOS_INLINE_FUNCTION cohesive::Gap gap(int i) const {
+    return cohesive::interface_gap(load_segment(seg, i), pose_of(pose, ends(i, 0)), pose_of(pose, ends(i, 1)));
+  }
+  KOKKOS_INLINE_FUNCTION double energy(int i) const {
+    return cohesive::gap_energy(law(i), quad, gap(i), seg(i, LEN));
+  }
+};
+
 /// \brief Total energy: sum over interfaces (deterministic: same bits for any thread count).
 template <class ExecutionSpace = ExecSpace>
 double total_energy(const Model<typename ExecutionSpace::memory_space>& m,
                     SumWorkspace<typename ExecutionSpace::memory_space>& ws) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto p = m.pose;
-  auto ends = m.ends;
-  auto seg = m.seg;
-  auto kind = m.kind;
-  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
-  const cohesive::Quadrature q = m.quad;
-  return deterministic_sum<ExecutionSpace>(
-      "nacre::mc::total_energy", ws, 0, m.n_interfaces, KOKKOS_LAMBDA(const int i) {
-        const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
-        return cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
-      });
+  const InterfaceEvaluator<typename ExecutionSpace::memory_space> ev(m);
+  return deterministic_sum<ExecutionSpace>("nacre::mc::total_energy", ws, 0, m.n_interfaces,
+                                           KOKKOS_LAMBDA(const int i) { return ev.energy(i); });
 }
 
 /// \brief Energy of each brick's interfaces: full sum per brick into `full` (each interface
@@ -39,22 +55,13 @@ template <class ExecutionSpace = ExecSpace>
 void brick_energy(const Model<typename ExecutionSpace::memory_space>& m,
                   Field<double, typename ExecutionSpace::memory_space> full) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto p = m.pose;
-  auto ends = m.ends;
-  auto seg = m.seg;
-  auto kind = m.kind;
+  const InterfaceEvaluator<typename ExecutionSpace::memory_space> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface;
-  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
-  const cohesive::Quadrature q = m.quad;
   Kokkos::parallel_for(
       "nacre::mc::brick_energy", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_bricks),
       KOKKOS_LAMBDA(const int b) {
         double e = 0;
-        for (int j = off(b); j < off(b + 1); ++j) {
-          const int i = adj(j);
-          const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
-          e += cohesive::interface_energy(kind(i) ? l1 : l0, q, load_segment(seg, i), pa, pb);
-        }
+        for (int j = off(b); j < off(b + 1); ++j) e += ev.energy(adj(j));
         full(b) = e;
       });
 }
@@ -65,23 +72,16 @@ int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
                     Field<double, typename ExecutionSpace::memory_space> energy,
                     Field<std::int8_t, typename ExecutionSpace::memory_space> state) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
-  auto p = m.pose;
-  auto ends = m.ends;
-  auto seg = m.seg;
-  auto kind = m.kind;
-  const cohesive::Law l0 = m.law[0], l1 = m.law[1];
-  const cohesive::Quadrature q = m.quad;
+  const InterfaceEvaluator<typename ExecutionSpace::memory_space> ev(m);
   int ruptured = 0;
   Kokkos::parallel_reduce(
       "nacre::mc::interface_state", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_interfaces),
       KOKKOS_LAMBDA(const int i, int& acc) {
-        const cohesive::Pose pa = pose_of(p, ends(i, 0)), pb = pose_of(p, ends(i, 1));
-        const auto& law = kind(i) ? l1 : l0;
-        const cohesive::Segment sg = load_segment(seg, i);
-        const cohesive::Gap g = cohesive::interface_gap(sg, pa, pb);
-        if (energy.data()) energy(i) = cohesive::gap_energy(law, q, g, sg.length);
+        const auto& law = ev.law(i);
+        const cohesive::Gap g = ev.gap(i);
+        if (energy.data()) energy(i) = cohesive::gap_energy(law, ev.quad, g, ev.seg(i, LEN));
         std::int8_t s = 0;
-        if (cohesive::min_separation(q, g) >= law.x1 + law.x2) s = 2;
+        if (cohesive::min_separation(ev.quad, g) >= law.x1 + law.x2) s = 2;
         else if (cohesive::max_separation(g) > law.x1) s = 1;
         if (state.data()) state(i) = s;
         acc += (s == 2);
