@@ -266,7 +266,7 @@ namespace {
 template <class PV>
 std::vector<double> to_original_order(const PV& v, const std::vector<int>& perm) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
-  std::vector<double> out(3 * perm.size());
+  std::vector<double> out(3 * perm.size());  // x, y, theta (the cached rotation is derived)
   for (std::size_t k = 0; k < perm.size(); ++k)
     for (int c = 0; c < 3; ++c) out[3 * perm[k] + c] = h(k, c);
   return out;
@@ -275,9 +275,10 @@ template <class PV>
 void from_original_order(const std::vector<double>& in, const std::vector<int>& perm, const PV& v) {
   if (in.size() != 3 * perm.size()) throw std::runtime_error("checkpoint does not match the specimen");
   auto h = Kokkos::create_mirror_view(v);
+  Kokkos::deep_copy(h, 0.0);
   for (std::size_t k = 0; k < perm.size(); ++k)
     for (int c = 0; c < 3; ++c) h(k, c) = in[3 * perm[k] + c];
-  Kokkos::deep_copy(v, h);
+  Kokkos::deep_copy(v, h);  // the caller refreshes the cached rotation
 }
 }  // namespace
 
@@ -304,6 +305,7 @@ void Solver::restore(const Checkpoint& c) {
                              m_.colouring_name + "'");
   from_original_order(c.pose, m_.perm, m_.pose);
   from_original_order(c.previous_pose, m_.perm, prev_pose_);
+  refresh_frames(m_);
   run_ = c.run;
   D_ = c.displacement;
   step_ = c.step_size;

@@ -9,10 +9,16 @@
 
 namespace nacre::mc {
 
-/// \brief Pose of brick b.
+/// \brief Pose of brick b, with its cached rotation.
 template <class PV>
-KOKKOS_INLINE_FUNCTION cohesive::Pose pose_of(const PV& p, int b) {
-  return cohesive::Pose{p(b, 0), p(b, 1), p(b, 2)};
+KOKKOS_INLINE_FUNCTION cohesive::Frame frame_of(const PV& p, int b) {
+  return cohesive::Frame{p(b, 0), p(b, 1), p(b, 2), p(b, 3), p(b, 4)};
+}
+
+/// \brief Set brick b's pose (and its cached rotation).
+template <class PV>
+KOKKOS_INLINE_FUNCTION void store_frame(const PV& p, int b, const cohesive::Frame& f) {
+  p(b, 0) = f.x, p(b, 1) = f.y, p(b, 2) = f.t, p(b, 3) = f.s, p(b, 4) = f.c1;
 }
 
 /// \brief What the energy kernels read of the model, copied by value into a lambda (Views are
@@ -32,7 +38,7 @@ struct InterfaceEvaluator {
 
   KOKKOS_INLINE_FUNCTION const cohesive::Law& law(int i) const { return kind(i) ? law1 : law0; }
   KOKKOS_INLINE_FUNCTION cohesive::Gap gap(int i) const {
-    return cohesive::interface_gap(load_segment(seg, i), pose_of(pose, ends(i, 0)), pose_of(pose, ends(i, 1)));
+    return cohesive::interface_gap(load_segment(seg, i), frame_of(pose, ends(i, 0)), frame_of(pose, ends(i, 1)));
   }
   KOKKOS_INLINE_FUNCTION double energy(int i) const {
     return cohesive::gap_energy(law(i), quad, gap(i), seg(i, LEN));
@@ -113,7 +119,7 @@ void apply_load(const Model<typename ExecutionSpace::memory_space>& m, const Loa
       "nacre::mc::apply_load", Kokkos::RangePolicy<ExecutionSpace>(m.n_free, m.n_bricks),
       KOKKOS_LAMBDA(const int b) {
         const cohesive::Pose q = lp.pose(drive(b), cx(b), D);
-        p(b, 0) = q.x, p(b, 1) = q.y, p(b, 2) = q.t;
+        store_frame(p, b, cohesive::make_frame(q));
       });
 }
 
@@ -141,17 +147,18 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
       "nacre::mc::sweep_colour", Kokkos::RangePolicy<ExecutionSpace>(begin, end),
       KOKKOS_LAMBDA(const int w, long& acc) {
        for (int b = tiles(w); b < tiles(w + 1); ++b) {
-        const cohesive::Pose old = pose_of(p, b);
+        const cohesive::Frame f_old = frame_of(p, b);
+        const cohesive::Pose old{f_old.x, f_old.y, f_old.t};
         const cohesive::Pose trial{old.x + step * (2.0 * u(b, 0) - 1.0),
                                    old.y + step * (2.0 * u(b, 1) - 1.0),
                                    old.t + rot_step * (2.0 * u(b, 2) - 1.0)};
-        const cohesive::Frame f_old = cohesive::make_frame(old), f_new = cohesive::make_frame(trial);
+        const cohesive::Frame f_new = cohesive::make_frame(trial);
         double e_old = 0, e_new = 0;
         for (int j = off(b); j < off(b + 1); ++j) {
           const int i = adj(j);
           const int a = ends(i, 0), c = ends(i, 1);
           const int o = (a == b) ? c : a;
-          const cohesive::Frame fo = cohesive::make_frame(pose_of(p, o));
+          const cohesive::Frame fo = frame_of(p, o);
           const cohesive::Segment sg = load_segment(seg, i);
           const auto& law = kind(i) ? l1 : l0;
           if (a == b) {
@@ -165,7 +172,7 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
         const double d = e_new - e_old;
         const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
         if (accept) {
-          p(b, 0) = trial.x, p(b, 1) = trial.y, p(b, 2) = trial.t;
+          store_frame(p, b, f_new);
           acc += 1;
         }
         de(b) = accept ? d : 0.0;
@@ -188,7 +195,22 @@ void predict_poses(const Model<typename ExecutionSpace::memory_space>& m,
       "nacre::mc::predict", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_free), KOKKOS_LAMBDA(const int b) {
         const double r = phi0(b) > 0 ? phi(b) / phi0(b) : 0.0;
         const double mfac = 1.0 - 1.8 * (Kokkos::fmax(Kokkos::fmin(r, 1.0), 0.5) - 0.5);
-        for (int k = 0; k < 3; ++k) p(b, k) += ratio * (p(b, k) - prev(b, k)) * mfac;
+        cohesive::Pose q{p(b, 0), p(b, 1), p(b, 2)};
+        q.x += ratio * (q.x - prev(b, 0)) * mfac;
+        q.y += ratio * (q.y - prev(b, 1)) * mfac;
+        q.t += ratio * (q.t - prev(b, 2)) * mfac;
+        store_frame(p, b, cohesive::make_frame(q));
+      });
+}
+
+/// \brief Recompute the cached rotation of every brick from its angle (after poses were set from
+/// outside, e.g. a checkpoint), with the same device sine the sweep uses.
+template <class ExecutionSpace = ExecSpace>
+void refresh_frames(const Model<typename ExecutionSpace::memory_space>& m) {
+  auto p = m.pose;
+  Kokkos::parallel_for(
+      "nacre::mc::refresh_frames", Kokkos::RangePolicy<ExecutionSpace>(0, m.n_bricks), KOKKOS_LAMBDA(const int b) {
+        store_frame(p, b, cohesive::make_frame(cohesive::Pose{p(b, 0), p(b, 1), p(b, 2)}));
       });
 }
 

@@ -19,10 +19,12 @@ struct Model {
   static_assert(Kokkos::is_memory_space_v<MemorySpace>, "Model needs a Kokkos memory space");
   using memory_space = MemorySpace;
 
-  /// \brief Pose (x, y, theta) per brick. LayoutRight keeps a brick's three numbers together:
-  /// the sweep gathers neighbour poses by index, and one gather then touches one cache line (CPU)
-  /// or one 32-byte sector (GPU) instead of three.
-  using PoseView = Kokkos::View<double* [3], Kokkos::LayoutRight, MemorySpace>;
+  /// \brief Pose per brick: x, y, theta and, cached, sin(theta) and cos(theta) - 1 (a
+  /// cohesive::Frame). The sweep gathers ~6 neighbour poses per trial; with the rotation cached
+  /// it needs 2 sines per trial (the proposal) instead of 16. Every writer goes through
+  /// store_frame(). LayoutRight keeps a brick's five numbers together, so a gather touches one
+  /// or two cache lines (CPU) / 32-byte sectors (GPU) instead of five.
+  using PoseView = Kokkos::View<double* [5], Kokkos::LayoutRight, MemorySpace>;
 
   // ---- bricks (structure of arrays for everything read per brick in sweep order)
   PoseView pose;
