@@ -16,7 +16,7 @@ echo "[perf] initialisation scaling"
 "$bin/nacre_perf_init" --bricks "${NACRE_INIT_SIZES:-10000,30000,100000,300000,1000000}" --csv "$out/init_scaling.csv" --kokkos-num-threads=2
 rm -f "$out/mc_throughput.csv"
 sizes="${NACRE_MC_SIZES:-10000,100000,300000}"
-cycles="${NACRE_MC_CYCLES:-20}"
+cycles="${NACRE_MC_CYCLES:-30}"
 echo "[perf] sweep throughput, 1 thread + serial reference"
 "$bin/nacre_perf_mc" --bricks "$sizes" --cycles "$cycles" --reference --csv "$out/mc_throughput.csv" --kokkos-num-threads=1
 echo "[perf] sweep throughput, 2 threads"

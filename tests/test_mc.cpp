@@ -216,7 +216,7 @@ TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-co
     CHECK(h1 == h2);
     REQUIRE(rows1.size() >= 3);
     CHECK(rows1.back().displacement == Catch::Approx(0.02));
-    fingerprints << colouring << " " << std::hex << h1 << "\n";
+    fingerprints << d.solver.rng << " " << colouring << " " << std::hex << h1 << "\n";
   }
   if (const char* out = std::getenv("NACRE_HASH_OUT")) std::ofstream(out) << fingerprints.str();
 }
