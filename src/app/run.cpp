@@ -62,11 +62,13 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
   const bool progress = tty && d.output.progress && !quiet;
   int current_step = 0;
   const double t_run = elapsed();
+  bool step_done = false;  // the line names the step in progress, or the one just finished
   auto progress_line = [&](long cycles, double energy) {
     const double frac = solver.load() / d.load.final_displacement;
     const double spent = elapsed() - t_run;
     const double left = frac > 0 ? spent / frac - spent : -1;
-    std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ", current_step + 1,
+    std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ",
+                 step_done ? current_step : current_step + 1,
                  solver.load(), d.load.final_displacement, cycles, energy, hms(spent).c_str(), hms(left).c_str());
     std::fflush(stderr);
   };
@@ -77,7 +79,11 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
     writer.step(r);
     const bool last = r.displacement >= d.load.final_displacement * (1 - 1e-12);
     if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || last) writer.dump(r.step, solver);
-    if (progress) progress_line(r.cycles, r.energy);
+    if (progress) {
+      step_done = true;
+      progress_line(r.cycles, r.energy);
+      step_done = false;
+    }
     else if (log)
       *log << "  step " << r.step << ": D = " << r.displacement << ", E = " << r.energy << ", F = " << r.reaction
            << ", " << r.cycles << " cycles" << (r.converged ? "" : " (not converged)") << ", acceptance "
