@@ -25,30 +25,12 @@ namespace nacre::aes::detail {
 /// bitsliced.hpp): 32-bit words on GPUs, the widest SIMD vector word on CPUs.
 template <class ExecSpace>
 struct ExecWord {
-  using type = bitslice::HostWord;
-  static constexpr int team_size = 1;  // CPU: one thread per team, no intra-team sharing needed
+  /// Host execution spaces get the SIMD vector word and one thread per team; device spaces
+  /// (CUDA, HIP, SYCL) plain 32-bit words and 64-thread teams that share scratch.
+  static constexpr bool host = Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible;
+  using type = std::conditional_t<host, bitslice::HostWord, std::uint32_t>;
+  static constexpr int team_size = host ? 1 : 64;
 };
-#if defined(KOKKOS_ENABLE_CUDA)
-template <>
-struct ExecWord<Kokkos::Cuda> {
-  using type = std::uint32_t;
-  static constexpr int team_size = 64;
-};
-#endif
-#if defined(KOKKOS_ENABLE_HIP)
-template <>
-struct ExecWord<Kokkos::HIP> {
-  using type = std::uint32_t;
-  static constexpr int team_size = 64;
-};
-#endif
-#if defined(KOKKOS_ENABLE_SYCL)
-template <>
-struct ExecWord<Kokkos::SYCL> {
-  using type = std::uint32_t;
-  static constexpr int team_size = 64;
-};
-#endif
 
 template <class ExecSpace>
 using exec_lane_t = typename bitslice::WordTraits<typename ExecWord<ExecSpace>::type>::lane;
