@@ -35,6 +35,7 @@ RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
     while (std::getline(in, line)) {
       if (line.empty() || std::stoi(line.substr(0, line.find(','))) > resume_step) break;
       csv_ += line + "\n";
+      last_step_ = std::stoi(line.substr(0, line.find(',')));
     }
     std::vector<std::filesystem::path> files;
     for (const auto& e : std::filesystem::directory_iterator(dir_)) files.push_back(e.path());
@@ -102,7 +103,7 @@ RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
 }
 
 void RunWriter::step(const mc::StepRecord& r) {
-  rows_.push_back(r);
+  last_step_ = r.step;
   csv_ += std::to_string(r.step) + "," + num(r.displacement) + "," + num(r.energy) + "," + num(r.reaction) + "," +
           std::to_string(r.cycles) + "," + num(r.acceptance) + "," + std::to_string(r.ruptured) + "," +
           (r.converged ? "1" : "0") + "," + num(r.step_size) + "," + num(r.rot_step) + "," + num(r.increment) +
@@ -263,7 +264,7 @@ void RunWriter::summary(const mc::Solver& solver, double seconds, const std::str
     << ",\n  \"interfaces\": " << m.n_interfaces << ",\n  \"colouring\": \"" << m.colouring_name
     << "\",\n  \"colours\": " << (m.colour_offset.size() - 1) << ",\n  \"rng\": \"" << deck_.solver.rng
     << "\",\n  \"seed\": " << deck_.seed << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency()
-    << ",\n  \"execution_space\": \"" << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << rows_.size()
+    << ",\n  \"execution_space\": \"" << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << last_step_
     << ",\n  \"cycles\": " << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds)
     << ",\n  \"phase_seconds\": {\"rng\": " << num(pt.rng) << ", \"sweep\": " << num(pt.sweep) << ", \"energy\": "
     << num(pt.energy) << "},\n  \"presimulation_seconds_per_cycle\": {";

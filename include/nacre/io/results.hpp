@@ -46,7 +46,7 @@ private:
     std::string file;
   };
   std::vector<DumpInfo> dumps_;
-  std::vector<mc::StepRecord> rows_;
+  int last_step_ = 0;  ///< load steps in steps.csv (a restart continues the count)
 };
 
 }  // namespace nacre::io

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""End-to-end check of a nacre output directory: every file the README promises exists and is
+consistent (CSV columns, XDMF references resolve to HDF5 datasets of the stated shapes, charts
+are PNGs, summary.json parses, the checkpoint holds one pose per brick)."""
+import csv
+import json
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import h5py
+
+out = sys.argv[1]
+fail = []
+
+
+def check(cond, msg):
+    if not cond:
+        fail.append(msg)
+
+
+rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
+check(len(rows) >= 3, "steps.csv has fewer than 3 rows")
+for col in ["step", "displacement", "energy", "reaction", "cycles", "acceptance", "ruptured", "converged"]:
+    check(col in rows[0], f"steps.csv lacks column {col}")
+check([int(r["step"]) for r in rows] == list(range(1, len(rows) + 1)), "steps are not 1..n")
+check(all(float(a["displacement"]) < float(b["displacement"]) for a, b in zip(rows, rows[1:])),
+      "displacement does not increase")
+summary = json.load(open(os.path.join(out, "summary.json")))
+check(summary["steps"] == len(rows), "summary.json steps != rows")
+n = summary["bricks"]
+root = ET.parse(os.path.join(out, "nacre.xdmf")).getroot()
+items = root.iter("DataItem")
+count = 0
+for it in items:
+    fname, path = it.text.strip().split(":")
+    dims = [int(d) for d in it.attrib["Dimensions"].split()]
+    with h5py.File(os.path.join(out, fname), "r") as h:
+        check(path in h, f"{fname}:{path} missing")
+        if path in h:
+            shape = list(h[path].shape)
+            check(shape == dims, f"{fname}:{path} has shape {shape}, XDMF says {dims}")
+    count += 1
+check(count > 0, "no DataItem in nacre.xdmf")
+with h5py.File(os.path.join(out, "mesh.h5"), "r") as m:
+    check(m["/bricks/area"].shape[0] == n, "mesh.h5 brick count != summary")
+with h5py.File(os.path.join(out, "checkpoint.h5"), "r") as c:
+    check(c["/pose"].shape == (n, 3), "checkpoint pose shape")
+    check(int(c.attrs["step"]) == len(rows), "checkpoint is not at the last step")
+for png in ["energy_force.png", "crack.png"]:
+    p = os.path.join(out, png)
+    check(os.path.exists(p) and open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n", f"{png} missing or not a PNG")
+check(not [f for f in os.listdir(out) if ".tmp" in f], "temporary files left behind")
+if fail:
+    print("\n".join("FAIL: " + f for f in fail))
+    sys.exit(1)
+print(f"outputs of {out}: {len(rows)} steps, {count} XDMF data items, all consistent")
