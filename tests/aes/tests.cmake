@@ -3,7 +3,7 @@
 include(${PROJECT_SOURCE_DIR}/src/aes/aes.cmake)
 find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 
-set(_nacre_aes_env "OMP_PROC_BIND=false;NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+set(_nacre_aes_env "${NACRE_TEST_ENV};NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 
 # Cipher: FIPS-197 vectors, the circuit, OpenSSL equality. Generators: determinism,
 # independence, uniformity and serial-correlation smoke tests (label rng). Each is registered for
@@ -12,22 +12,22 @@ nacre_add_test(test_aes LABELS aes SOURCES aes/test_aes.cpp LIBS OpenSSL::Crypto
 nacre_add_test(test_aes_sources LABELS aes SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
 foreach(_t 1 2)
   catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]" TEST_LIST nacre_test_aes_${_t}t
-    EXTRA_ARGS --kokkos-num-threads=${_t} PROPERTIES ENVIRONMENT "${_nacre_aes_env}")
+    EXTRA_ARGS --kokkos-num-threads=${_t})
   catch_discover_tests(test_aes_sources TEST_SUFFIX " [${_t} thread(s)]"
     TEST_LIST nacre_test_aes_sources_${_t}t
-    EXTRA_ARGS --kokkos-num-threads=${_t} PROPERTIES ENVIRONMENT "${_nacre_aes_env}")
+    EXTRA_ARGS --kokkos-num-threads=${_t})
 endforeach()
 # Several labels per discovered test: catch_discover_tests flattens a LABELS list into separate
 # arguments, so the labels are set by a CTest include file that runs after the discovery files.
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/nacre_aes_test_labels.cmake [=[
 foreach(_v test_aes_TESTS nacre_test_aes_1t nacre_test_aes_2t)
   if(DEFINED ${_v})
-    set_tests_properties(${${_v}} PROPERTIES LABELS "aes")
+    set_tests_properties(${${_v}} PROPERTIES LABELS "aes" ENVIRONMENT "${NACRE_TEST_ENV}")
   endif()
 endforeach()
 foreach(_v test_aes_sources_TESTS nacre_test_aes_sources_1t nacre_test_aes_sources_2t)
   if(DEFINED ${_v})
-    set_tests_properties(${${_v}} PROPERTIES LABELS "aes;rng")
+    set_tests_properties(${${_v}} PROPERTIES LABELS "aes;rng" ENVIRONMENT "${NACRE_TEST_ENV}")
   endif()
 endforeach()
 ]=])
