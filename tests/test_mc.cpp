@@ -123,9 +123,12 @@ Setup make(deck::Deck d) {
 TEST_CASE("elastic limit: the Monte Carlo minimum matches the exact linear solve", "[mc][physics]") {
   auto d = small_deck();
   d.solver.temperature = 0.0;  // pure descent: thermal energy would bias the minimum
-  d.solver.step = 1e-6, d.solver.min_step = 1e-13, d.solver.max_step = 1e-5;
-  d.solver.rot_step = 1e-6, d.solver.min_rot_step = 1e-13, d.solver.max_rot_step = 1e-5;
-  d.solver.adapt_interval = 20;
+  // Fixed trial steps: at T = 0 the acceptance target of eq. 2.7 (40-60 %) is out of reach near
+  // a minimum, so adaptation would shrink the step to its floor and the descent would stall
+  // (measured: 3 % energy error instead of < 1e-4; see docs/design.md).
+  d.solver.step = d.solver.min_step = d.solver.max_step = 1e-6;
+  d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-6;
+  d.solver.adapt_interval = 0;
   auto st = make(d);
   const double D = 1e-4;  // separations ~1e-5 << x1: quadratic regime
   const double exact = exact_elastic_energy(d, st.s, st.f, D);
@@ -136,7 +139,6 @@ TEST_CASE("elastic limit: the Monte Carlo minimum matches the exact linear solve
   for (int block = 0; block < 400; ++block) {
     for (int c = 0; c < 100; ++c) solver.cycle();
     e = solver.energy();
-    // the adaptive step keeps the acceptance near 1/2 while the energy descends
     if ((e - exact) / exact < 2e-5) break;
   }
   INFO("exact " << exact << ", MC " << e << ", start " << e_start);
@@ -171,9 +173,8 @@ TEST_CASE("tracked energy equals the exact reduction; zero load gives zero energ
 TEST_CASE("reaction = dE/dD of the relaxed energy (envelope theorem)", "[mc][physics]") {
   auto d = small_deck();
   d.solver.temperature = 0.0;
-  d.solver.step = 1e-6, d.solver.min_step = 1e-13, d.solver.max_step = 1e-5;
-  d.solver.rot_step = 1e-6, d.solver.min_rot_step = 1e-13, d.solver.max_rot_step = 1e-5;
-  d.solver.adapt_interval = 20;
+  d.solver.step = d.solver.min_step = d.solver.max_step = 1e-6;  // fixed, as in the elastic test
+  d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-6;
   auto st = make(d);
   // In the elastic regime E_min(D) = c D^2 exactly (linearised), so dE/dD = 2 E / D.
   mc::Solver solver(d, st.s, st.f);
@@ -256,4 +257,51 @@ TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][resta
     CHECK(rest[i].cycles == full[i + 2].cycles);
     CHECK(rest[i].displacement == full[i + 2].displacement);
   }
+}
+
+TEST_CASE("adaptive step size (eq. 2.7) pulls the acceptance into [0.4, 0.6] from a bad start",
+          "[mc][adaptive]") {
+  auto d = small_deck();
+  d.solver.temperature = 1e-7;
+  // start far too large (almost every trial rejected) and far too small (almost all accepted)
+  for (double start : {1e-3, 1e-9}) {
+    CAPTURE(start);
+    d.solver.step = start, d.solver.min_step = 1e-12, d.solver.max_step = 1e-2;
+    d.solver.rot_step = start, d.solver.min_rot_step = 1e-12, d.solver.max_rot_step = 1e-2;
+    d.solver.adapt_interval = 10;
+    auto st = make(d);
+    mc::Solver solver(d, st.s, st.f);
+    solver.set_load(1e-3);
+    const long n = solver.model().n_free;
+    long first = 0;
+    for (int c = 0; c < 10; ++c) first += solver.cycle();
+    for (int c = 0; c < 2000; ++c) solver.cycle();
+    long acc = 0;
+    for (int c = 0; c < 10; ++c) acc += solver.cycle();  // one adaptation window
+    const double a0 = static_cast<double>(first) / (10.0 * n), a = static_cast<double>(acc) / (10.0 * n);
+    INFO("acceptance first " << a0 << ", later " << a << ", step " << solver.step_size());
+    CHECK((a0 < 0.2 || a0 > 0.8));  // the start really was bad
+    CHECK(a > 0.3);
+    CHECK(a < 0.7);
+  }
+}
+
+TEST_CASE("adaptive displacement backtracks a step that takes too long and still finishes",
+          "[mc][adaptive]") {
+  auto d = cracking_deck();
+  d.load.initial_step = 0.01, d.load.min_step = 0.001, d.load.max_step = 0.01;
+  d.solver.adapt_interval = 20;
+  d.solver.window_size = 60, d.solver.convergence_rep = 20;
+  // c_u = 4 x 20 = 80 cycles < window + repetitions: the first attempt of every step above the
+  // minimum increment must fail and be retried smaller, down to the minimum, which then runs on
+  d.solver.window_mul = 2, d.solver.window_upper_mul = 4;
+  auto st = make(d);
+  mc::Solver solver(d, st.s, st.f);
+  std::vector<mc::StepRecord> rows;
+  solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });
+  REQUIRE(!rows.empty());
+  CHECK(rows.front().reverts > 0);
+  CHECK(rows.front().increment < 0.01);
+  CHECK(rows.back().displacement == Catch::Approx(0.02));
+  for (const auto& r : rows) CHECK(r.increment >= 0.001 * (1 - 1e-12));
 }

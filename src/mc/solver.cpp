@@ -71,9 +71,13 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
         chosen = name;
         break;
       }
-    source_ = rng::make_uniform_source(d.solver.rng, d.seed);  // fresh state for stateful sources
+    // the pre-simulation leaves no trace: fresh generator state, counters and step sizes
+    source_ = rng::make_uniform_source(d.solver.rng, d.seed);
     times_ = {};
     global_cycle_ = 0;
+    step_ = d.solver.step;
+    rot_step_ = d.solver.rot_step;
+    window_accepted_ = window_trials_ = accepted_total_ = trials_total_ = 0;
   }
   Colouring c = colour(chosen);
   m_ = build_model(s, f, c, d.mortar, d.solver.quadrature_points);
@@ -153,6 +157,17 @@ long Solver::cycle() {
   window_trials_ += m_.n_free;
   accepted_total_ += accepted;
   trials_total_ += m_.n_free;
+  const auto& S = deck_.solver;
+  if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0 && window_trials_ > 0) {
+    // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
+    // restart with each load step): scale by (0.5 + a) when the acceptance a leaves [0.4, 0.6]
+    const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
+    if (a < 0.4 || a > 0.6) {
+      step_ = std::clamp(step_ * (0.5 + a), S.min_step, S.max_step);
+      rot_step_ = std::clamp(rot_step_ * (0.5 + a), S.min_rot_step, S.max_rot_step);
+    }
+    window_accepted_ = window_trials_ = 0;
+  }
   return accepted;
 }
 
@@ -172,15 +187,6 @@ long Solver::relax(bool& converged) {
     if (monitor_.push(E_)) {
       converged = true;
       break;
-    }
-    if (S.adapt_interval > 0 && c % S.adapt_interval == 0 && window_trials_ > 0) {
-      // eq. 2.7: scale by (0.5 + a) when the acceptance a leaves [0.4, 0.6]
-      const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
-      if (a < 0.4 || a > 0.6) {
-        step_ = std::clamp(step_ * (0.5 + a), S.min_step, S.max_step);
-        rot_step_ = std::clamp(rot_step_ * (0.5 + a), S.min_rot_step, S.max_rot_step);
-      }
-      window_accepted_ = window_trials_ = 0;
     }
     if (on_progress && c % 1000 == 0) on_progress(c, E_);
     if (cycle_limit_ > 0 && c >= cycle_limit_) break;
