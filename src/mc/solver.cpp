@@ -42,7 +42,6 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
     // across machines — the chosen name is logged and written to the outputs.)
     Kokkos::Profiling::ScopedRegion pre("nacre::mc::presimulation");
     double best = std::numeric_limits<double>::max();
-    std::vector<std::pair<std::string, double>> timings;
     for (const auto& name : colouring_strategies()) {
       Colouring c = colour(name);
       m_ = build_model(s, f, c, d.mortar, d.solver.quadrature_points);
@@ -58,15 +57,14 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
         Kokkos::fence();
         per_cycle = std::min(per_cycle, timer.seconds() / d.solver.presim_cycles);
       }
-      presim_.emplace_back(name + " (" + std::to_string(c.n_colours) + " colours)", per_cycle);
+      presim_.emplace_back(name, per_cycle);
       if (log_) *log_ << "  pre-simulation: colouring " << name << ", " << c.n_colours << " colours, "
                       << per_cycle * 1e3 << " ms/cycle\n";
-      timings.emplace_back(name, per_cycle);
       best = std::min(best, per_cycle);
     }
     // Timings within 15 % of the fastest count as a tie, won by the earliest candidate in the
     // fixed list: machine noise then rarely flips the choice (and with it the run's result).
-    for (const auto& [name, sec] : timings)
+    for (const auto& [name, sec] : presim_)
       if (sec <= 1.15 * best) {
         chosen = name;
         break;

@@ -60,6 +60,8 @@ public:
          std::ostream* log = nullptr);
 
   [[nodiscard]] const Model<>& model() const { return m_; }
+  /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
+  /// unless the deck asked for colouring = "auto".
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
 
   /// \brief Move the driven bricks to load D (free bricks stay).
