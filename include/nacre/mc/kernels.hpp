@@ -97,12 +97,11 @@ int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
 }
 
 /// \brief Prescribed pose of a driven brick at load D: opening of the top edge
-/// u_y = +D/2 [tension + bending (x_notch_side)] and its mirror at the bottom; the edge turns
+/// u_y = +D/2 [tension + bending (1 - x / width)] and its mirror at the bottom; the edge turns
 /// by the slope of that profile. (Free bricks are untouched.)
 struct LoadPattern {
   double tension, bending, width;
   KOKKOS_INLINE_FUNCTION cohesive::Pose pose(int side, double cx, double D) const {
-    // bending: largest opening at x = 0 (the notch side), zero at the far edge... linear in x
     const double lever = 1.0 - cx / width;  // 1 at the notch mouth, 0 at the far edge
     const double uy = 0.5 * D * (tension + bending * lever) * side;
     const double slope = -0.5 * D * bending / width * side;
