@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 out = sys.argv[1]
-names = ["fixed", "steps", "load", "predictor"]
+names = ["fixed", "steps", "load", "predictor", "per-brick"]
 runs = {}
 for n in names:
     rows = list(csv.DictReader(open(os.path.join(out, n, "steps.csv"))))

@@ -5,6 +5,7 @@
 #   +steps      adaptive trial step sizes (eq. 2.7, AdaptInter 50)
 #   +load       and adaptive load increments (eq. 2.8, 2.9)
 #   +predictor  and the position predictor (eq. 2.10, 2.11): everything on
+#   per-brick   everything on, with one adaptive step size per brick
 # Accuracy: the energy-displacement curve of each variant against the fixed run's (relative RMS
 # difference at the fixed run's displacements). Run in the dev root:
 #   devenv/nacre-env run perf/run_adaptive_study.sh [OUTDIR]     (default perf/results/adaptive)
@@ -29,4 +30,6 @@ variant fixed -e ''
 variant steps "${steps[@]}"
 variant load "${steps[@]}" "${load[@]}"
 variant predictor "${steps[@]}" "${load[@]}" -e 's/^predictor = .*/predictor = true/'
+variant per-brick "${steps[@]}" "${load[@]}" -e 's/^predictor = .*/predictor = true/' \
+  -e 's/^AdaptInter = .*/AdaptInter = 50\nstep_mode = "per-brick"/'
 python3 perf/plot_adaptive_study.py "$out"

@@ -120,6 +120,9 @@ TEST_CASE("duplicates and syntax errors are errors", "[deck]") {
   CHECK_THAT(error_of(base + "[solver]\nTEMP = 1\ntemperature = 2\n"), ContainsSubstring("given twice"));
   CHECK_THAT(error_of(base + "[solver\n"), StartsWith("deck.toml:15: (syntax)"));
   CHECK_THAT(error_of(base + "[random]\ngenerator = \"rand\"\n"), ContainsSubstring("random.generator: expected one of"));
+  CHECK_THAT(error_of(base + "[solver]\nstep_mode = \"each\"\n"),
+             StartsWith("deck.toml:16: solver.step_mode: unknown value \"each\"; expected \"global\" or \"per-brick\""));
+  CHECK(parse_deck_string(base + "[solver]\nstep_mode = \"per-brick\"\n", "deck.toml").solver.per_brick_steps);
 }
 
 TEST_CASE("the app exits with 2 and creates no output for a bad deck", "[deck][app]") {

@@ -228,6 +228,9 @@ TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][resta
   d.solver.window_size = 60, d.solver.convergence_rep = 20;
   d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
   d.solver.colouring = "tiles";
+  for (const bool per_brick : {false, true}) {
+  CAPTURE(per_brick);
+  d.solver.per_brick_steps = per_brick;
   auto st = make(d);
   std::vector<mc::StepRecord> full;
   mc::Checkpoint cp;
@@ -257,15 +260,19 @@ TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][resta
     CHECK(rest[i].cycles == full[i + 2].cycles);
     CHECK(rest[i].displacement == full[i + 2].displacement);
   }
+  }
 }
 
 TEST_CASE("adaptive step size (eq. 2.7) pulls the acceptance into [0.4, 0.6] from a bad start",
           "[mc][adaptive]") {
   auto d = small_deck();
   d.solver.temperature = 1e-7;
-  // start far too large (almost every trial rejected) and far too small (almost all accepted)
+  // start far too large (almost every trial rejected) and far too small (almost all accepted),
+  // with one global step and with a step per brick
+  for (const bool per_brick : {false, true})
   for (double start : {1e-3, 1e-9}) {
-    CAPTURE(start);
+    CAPTURE(per_brick, start);
+    d.solver.per_brick_steps = per_brick;
     d.solver.step = start, d.solver.min_step = 1e-12, d.solver.max_step = 1e-2;
     d.solver.rot_step = start, d.solver.min_rot_step = 1e-12, d.solver.max_rot_step = 1e-2;
     d.solver.adapt_interval = 10;

@@ -258,6 +258,9 @@ Deck parse_table(const toml::table& root, const std::string& file) {
   s.number("min_rot_step", {"MinRotSize"}, S.min_rot_step, positive, "a positive angle (radians)");
   s.number("max_rot_step", {"MaxRotSize"}, S.max_rot_step, positive, "a positive angle (radians)");
   s.integer("adapt_interval", {"AdaptInter"}, S.adapt_interval, 0, 1000000000, "a cycle count >= 0 (0: fixed steps)");
+  std::string step_mode = S.per_brick_steps ? "per-brick" : "global";
+  s.string("step_mode", step_mode, {"global", "per-brick"}, "\"global\" or \"per-brick\"");
+  S.per_brick_steps = step_mode == "per-brick";
   s.number("stol", {"STOL"}, S.stol, positive, "a positive tolerance");
   s.number("rtol", {"RTOL"}, S.rtol, [](double v) { return v > 0 && v <= 1; }, "R^2 tolerance in (0, 1]");
   std::string stol_mode = S.stol_relative ? "relative" : "absolute";
@@ -283,7 +286,7 @@ Deck parse_table(const toml::table& root, const std::string& file) {
     s.fail("window_upper_mul", "upper cycle bound below the target; expected WindowUpperMul >= WindowMul");
   s.reject_unknown({"temperature (TEMP)", "step (InitialStepSize)", "min_step (MinStepSize)",
                     "max_step (MaxStepSize)", "rot_step (InitialRotSize)", "min_rot_step (MinRotSize)",
-                    "max_rot_step (MaxRotSize)", "adapt_interval (AdaptInter)", "stol (STOL)", "rtol (RTOL)",
+                    "max_rot_step (MaxRotSize)", "adapt_interval (AdaptInter)", "step_mode", "stol (STOL)", "rtol (RTOL)",
                     "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
                     "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
                     "quadrature_points", "colouring", "presim_cycles", "AmpFactor", "StructSteps"});

@@ -100,6 +100,14 @@ double h5_read_attribute(const std::string& path, const std::string& name) {
   return v;
 }
 
+bool h5_has_dataset(const std::string& path, const std::string& name) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
+  const bool has = H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0;
+  H5Fclose(f);
+  return has;
+}
+
 std::string h5_read_string_attribute(const std::string& path, const std::string& name) {
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);

@@ -188,6 +188,7 @@ void RunWriter::write_checkpoint(const std::filesystem::path& path, const mc::Ch
     h.attribute("window_trials", static_cast<std::int64_t>(c.window_trials));
     h.write("/pose", c.pose, 3);
     h.write("/previous_pose", c.previous_pose, 3);
+    if (!c.brick_step.empty()) h.write("/brick_step", c.brick_step, 3);
   }
   ap.commit();
 }
@@ -211,6 +212,7 @@ mc::Checkpoint RunWriter::read_checkpoint(const std::filesystem::path& path) {
   c.window_trials = i64("window_trials");
   c.pose = h5_read_doubles(p, "/pose");
   c.previous_pose = h5_read_doubles(p, "/previous_pose");
+  if (h5_has_dataset(p, "/brick_step")) c.brick_step = h5_read_doubles(p, "/brick_step");
   return c;
 }
 

@@ -95,6 +95,14 @@ void Solver::allocate_work() {
   save_pose_ = Model<>::PoseView("nacre::mc::save_pose", n);
   phi_ = Field<double>("nacre::mc::phi", n);
   de_ = Field<double>("nacre::mc::delta_energy", static_cast<std::size_t>(m_.n_free));
+  brick_steps_ = {};
+  if (deck_.solver.per_brick_steps) {
+    brick_steps_.step = decltype(brick_steps_.step)("nacre::mc::brick_step", m_.n_free);
+    brick_steps_.accepted = decltype(brick_steps_.accepted)("nacre::mc::brick_accepted", m_.n_free);
+    auto h = Kokkos::create_mirror_view(brick_steps_.step);
+    for (int b = 0; b < m_.n_free; ++b) h(b, 0) = deck_.solver.step, h(b, 1) = deck_.solver.rot_step;
+    Kokkos::deep_copy(brick_steps_.step, h);
+  }
 }
 
 void Solver::set_load(double D) {
@@ -143,7 +151,8 @@ long Solver::cycle() {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::sweep");
     const double T = deck_.solver.temperature;
     for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
-      accepted += sweep_colour(m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T);
+      accepted += sweep_colour(m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T,
+                               brick_steps_);
     auto d = de_;
     de = deterministic_sum("nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
                            KOKKOS_LAMBDA(const int b) { return d(b); });
@@ -156,7 +165,11 @@ long Solver::cycle() {
   accepted_total_ += accepted;
   trials_total_ += m_.n_free;
   const auto& S = deck_.solver;
-  if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0 && window_trials_ > 0) {
+  if (brick_steps_.active() && S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0) {
+    adapt_brick_steps(brick_steps_, m_.n_free, S.adapt_interval, S.min_step, S.max_step, S.min_rot_step,
+                      S.max_rot_step);
+    window_accepted_ = window_trials_ = 0;
+  } else if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0 && window_trials_ > 0) {
     // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
     // restart with each load step): scale by (0.5 + a) when the acceptance a leaves [0.4, 0.6]
     const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
@@ -259,6 +272,13 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     r.converged = converged;
     r.step_size = step_;
     r.rot_step = rot_step_;
+    if (brick_steps_.active()) {  // per-brick steps: report their mean (host sum, fixed order)
+      auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
+      double st = 0, sr = 0;
+      for (int b = 0; b < m_.n_free; ++b) st += h(b, 0), sr += h(b, 1);
+      r.step_size = m_.n_free ? st / m_.n_free : 0.0;
+      r.rot_step = m_.n_free ? sr / m_.n_free : 0.0;
+    }
     r.increment = inc_now;
     r.reverts = reverts;
     r.seconds = timer.seconds();
@@ -299,6 +319,15 @@ Checkpoint Solver::checkpoint() const {
   c.window_accepted = window_accepted_;
   c.window_trials = window_trials_;
   c.pose = to_original_order(m_.pose, m_.perm);
+  if (brick_steps_.active()) {
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
+    auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.accepted);
+    c.brick_step.assign(3 * m_.perm.size(), 0.0);
+    for (int k = 0; k < m_.n_free; ++k) {
+      const int i = m_.perm[k];
+      c.brick_step[3 * i] = hs(k, 0), c.brick_step[3 * i + 1] = hs(k, 1), c.brick_step[3 * i + 2] = ha(k);
+    }
+  }
   c.previous_pose = to_original_order(prev_pose_, m_.perm);
   return c;
 }
@@ -310,6 +339,20 @@ void Solver::restore(const Checkpoint& c) {
   from_original_order(c.pose, m_.perm, m_.pose);
   from_original_order(c.previous_pose, m_.perm, prev_pose_);
   refresh_frames(m_);
+  if (brick_steps_.active() != !c.brick_step.empty())
+    throw std::runtime_error("checkpoint and deck disagree on step_mode");
+  if (brick_steps_.active()) {
+    if (c.brick_step.size() != 3 * m_.perm.size()) throw std::runtime_error("checkpoint does not match the specimen");
+    auto hs = Kokkos::create_mirror_view(brick_steps_.step);
+    auto ha = Kokkos::create_mirror_view(brick_steps_.accepted);
+    for (int k = 0; k < m_.n_free; ++k) {
+      const int i = m_.perm[k];
+      hs(k, 0) = c.brick_step[3 * i], hs(k, 1) = c.brick_step[3 * i + 1];
+      ha(k) = static_cast<int>(c.brick_step[3 * i + 2]);
+    }
+    Kokkos::deep_copy(brick_steps_.step, hs);
+    Kokkos::deep_copy(brick_steps_.accepted, ha);
+  }
   run_ = c.run;
   D_ = c.displacement;
   step_ = c.step_size;

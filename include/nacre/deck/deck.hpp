@@ -61,6 +61,7 @@ struct Solver {
   double min_rot_step = 0.001;   ///< MinRotSize
   double max_rot_step = 0.001;   ///< MaxRotSize
   int adapt_interval = 0;        ///< AdaptInter (0: fixed step sizes)
+  bool per_brick_steps = false;  ///< step_mode: adapt one step size per brick instead of one global
   double stol = 0.002;           ///< STOL
   double rtol = 0.03;            ///< RTOL
   bool stol_relative = true;     ///< STOL bounds var/mean^2 (true) or the variance itself

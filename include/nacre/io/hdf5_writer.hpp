@@ -34,6 +34,7 @@ private:
 /// \brief Read back a dataset (for checkpoints and tests).
 std::vector<double> h5_read_doubles(const std::string& path, const std::string& name);
 double h5_read_attribute(const std::string& path, const std::string& name);
+bool h5_has_dataset(const std::string& path, const std::string& name);
 std::string h5_read_string_attribute(const std::string& path, const std::string& name);
 
 }  // namespace nacre::io

@@ -122,6 +122,16 @@ void apply_load(const Model<typename ExecutionSpace::memory_space>& m, const Loa
       });
 }
 
+/// \brief Per-brick trial step sizes (eq. 2.7 applied brick by brick): step(b, 0) translation,
+/// step(b, 1) rotation, accepted(b) trials accepted since the last adaptation. Empty views mean
+/// the global step sizes are used.
+template <class MemorySpace = MemSpace>
+struct BrickSteps {
+  Kokkos::View<double* [2], Kokkos::LayoutRight, MemorySpace> step;
+  Kokkos::View<int*, MemorySpace> accepted;
+  [[nodiscard]] bool active() const { return step.extent(0) > 0; }
+};
+
 /// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
 /// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
 /// share no interface, so the trials are independent; u(b, 0..3) holds brick b's uniforms.
@@ -131,7 +141,8 @@ template <class ExecutionSpace = ExecSpace>
 long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int begin, int end,
                   rng::UniformTable<typename ExecutionSpace::memory_space> u,
                   Field<double, typename ExecutionSpace::memory_space> de, double step,
-                  double rot_step, double temperature) {
+                  double rot_step, double temperature,
+                  const BrickSteps<typename ExecutionSpace::memory_space>& brick_steps = {}) {
   auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
@@ -141,6 +152,9 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
   const cohesive::Law l0 = m.law[0], l1 = m.law[1];
   const cohesive::Quadrature q = m.quad;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
+  const bool per_brick = brick_steps.active();
+  auto bstep = brick_steps.step;
+  auto bacc = brick_steps.accepted;
   long accepted = 0;
   Kokkos::parallel_reduce(
       "nacre::mc::sweep_colour", Kokkos::RangePolicy<ExecutionSpace>(begin, end),
@@ -148,9 +162,9 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
        for (int b = tiles(w); b < tiles(w + 1); ++b) {
         const cohesive::Frame f_old = frame_of(p, b);
         const cohesive::Pose old{f_old.x, f_old.y, f_old.t};
-        const cohesive::Pose trial{old.x + step * (2.0 * u(b, 0) - 1.0),
-                                   old.y + step * (2.0 * u(b, 1) - 1.0),
-                                   old.t + rot_step * (2.0 * u(b, 2) - 1.0)};
+        const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
+        const cohesive::Pose trial{old.x + s * (2.0 * u(b, 0) - 1.0), old.y + s * (2.0 * u(b, 1) - 1.0),
+                                   old.t + sr * (2.0 * u(b, 2) - 1.0)};
         const cohesive::Frame f_new = cohesive::make_frame(trial);
         double e_old = 0, e_new = 0;
         for (int j = off(b); j < off(b + 1); ++j) {
@@ -173,6 +187,7 @@ long sweep_colour(const Model<typename ExecutionSpace::memory_space>& m, int beg
         if (accept) {
           store_frame(p, b, f_new);
           acc += 1;
+          if (per_brick) bacc(b) += 1;  // one thread per brick: no race
         }
         de(b) = accept ? d : 0.0;
        }
@@ -199,6 +214,24 @@ void predict_poses(const Model<typename ExecutionSpace::memory_space>& m,
         q.y += ratio * (q.y - prev(b, 1)) * mfac;
         q.t += ratio * (q.t - prev(b, 2)) * mfac;
         store_frame(p, b, cohesive::make_frame(q));
+      });
+}
+
+/// \brief eq. 2.7 per brick: after `interval` trials, scale the brick's steps by (0.5 + a) when
+/// its acceptance a leaves [0.4, 0.6], clamp, and restart its count.
+template <class ExecutionSpace = ExecSpace>
+void adapt_brick_steps(const BrickSteps<typename ExecutionSpace::memory_space>& bs, int n_free, int interval,
+                       double min_step, double max_step, double min_rot, double max_rot) {
+  auto step = bs.step;
+  auto acc = bs.accepted;
+  Kokkos::parallel_for(
+      "nacre::mc::adapt_brick_steps", Kokkos::RangePolicy<ExecutionSpace>(0, n_free), KOKKOS_LAMBDA(const int b) {
+        const double a = static_cast<double>(acc(b)) / interval;
+        if (a < 0.4 || a > 0.6) {
+          step(b, 0) = Kokkos::clamp(step(b, 0) * (0.5 + a), min_step, max_step);
+          step(b, 1) = Kokkos::clamp(step(b, 1) * (0.5 + a), min_rot, max_rot);
+        }
+        acc(b) = 0;
       });
 }
 

@@ -45,6 +45,7 @@ struct Checkpoint {
   std::uint64_t global_cycle = 0;
   long accepted_total = 0, trials_total = 0, window_accepted = 0, window_trials = 0;
   std::vector<double> pose, previous_pose;  ///< n x 3, original brick order
+  std::vector<double> brick_step;           ///< step_mode per-brick: n x 3 (step, rot, accepted), original order; else empty
 };
 
 /// \brief Wall time per phase (fenced), the split of Fig. 2.12.
@@ -111,6 +112,7 @@ private:
   rng::UniformTable<> u_;
   SumWorkspace<> sum_ws_;
   Field<double> de_;  ///< accepted energy change per free brick in the current cycle
+  BrickSteps<> brick_steps_;  ///< step_mode = "per-brick" only
   Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
   Field<double> phi_;
   ConvergenceMonitor monitor_;
