@@ -4,6 +4,8 @@
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/model.hpp>
 
+#include "specimen_size.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -30,11 +32,8 @@ int main(int argc, char* argv[]) {
   auto since = [](clk::time_point t) { return std::chrono::duration<double>(clk::now() - t).count(); };
   for (long n : sizes) {
     deck::Deck d;
-    const double area = 3.5 * static_cast<double>(n);
-    d.geometry.height = std::floor(std::sqrt(area / 1.5));
-    d.geometry.width = area / d.geometry.height;
+    size_specimen(d.geometry, n);
     d.geometry.angle_deg = 30.0;  // rotated: every boundary brick is clipped
-    d.geometry.notch_length = 0.4 * d.geometry.width;
     d.geometry.notch_y = 0.5 * d.geometry.height;
     auto t = clk::now();
     auto s = geometry::build_specimen(d.geometry);
@@ -49,7 +48,7 @@ int main(int argc, char* argv[]) {
     auto c = mc::colour_graph("natural", s, adj, free, 1);
     const double tc = since(t);
     t = clk::now();
-    auto m = mc::build_model(s, f, c, d.mortar, 4);
+    auto m = mc::build_model(s, f, adj, c, d.mortar, 4);
     Kokkos::fence();
     const double tm = since(t);
     out << s.size() << "," << f.size() << "," << ts << "," << ti << "," << tc << "," << tm << "," << ts + ti + tc + tm << "\n";

@@ -10,6 +10,8 @@
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "specimen_size.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -26,11 +28,7 @@ namespace {
 
 deck::Deck deck_for(long bricks) {
   deck::Deck d;
-  // specimen of ~`bricks` bricks, 3:2 aspect, brick 3.5 x 1
-  const double area = 3.5 * static_cast<double>(bricks);
-  d.geometry.height = std::floor(std::sqrt(area / 1.5));
-  d.geometry.width = area / d.geometry.height;
-  d.geometry.notch_length = 0.4 * d.geometry.width;
+  size_specimen(d.geometry, bricks);
   d.geometry.notch_y = std::floor(0.5 * d.geometry.height);
   d.mortar.bed = {100.0, 0.002, 0.004};
   d.mortar.head = {100.0, 0.001, 0.002};

@@ -58,7 +58,7 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
     if (log) *log << "nacre: restarting from " << restart << " at step " << cp.run.step << ", D = " << cp.displacement
                   << ", cycle " << cp.global_cycle << "\n";
   }
-  io::RunWriter writer(d, specimen, interfaces, solver.model(), restart.empty() ? -1 : cp.run.step);
+  io::RunWriter writer(d, specimen, interfaces, restart.empty() ? -1 : cp.run.step);
   const bool progress = tty && d.output.progress && !quiet;
   int current_step = 0;
   const double t_run = elapsed();

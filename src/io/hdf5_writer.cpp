@@ -69,62 +69,53 @@ void H5Writer::attribute(const std::string& name, const std::string& v) {
   H5Tclose(type);
 }
 
-std::vector<double> h5_read_doubles(const std::string& path, const std::string& name) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
-  const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-  if (ds < 0) {
-    H5Fclose(f);
-    throw std::runtime_error("HDF5: no dataset " + name + " in " + path);
-  }
+H5Reader::H5Reader(const std::string& path) : path_(path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error("HDF5: cannot open " + path);
+}
+
+H5Reader::~H5Reader() {
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+bool H5Reader::has(const std::string& dataset) const { return H5Lexists(file_, dataset.c_str(), H5P_DEFAULT) > 0; }
+
+std::vector<double> H5Reader::doubles(const std::string& dataset) const {
+  const hid_t ds = H5Dopen2(file_, dataset.c_str(), H5P_DEFAULT);
+  if (ds < 0) throw std::runtime_error("HDF5: no dataset " + dataset + " in " + path_);
   const hid_t space = H5Dget_space(ds);
   const hssize_t n = H5Sget_simple_extent_npoints(space);
   std::vector<double> v(static_cast<std::size_t>(n));
   const herr_t e = n ? H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) : 0;
   H5Sclose(space);
   H5Dclose(ds);
-  H5Fclose(f);
-  check(e, "cannot read " + name);
+  check(e, "cannot read " + dataset + " in " + path_);
   return v;
 }
 
-double h5_read_attribute(const std::string& path, const std::string& name) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
-  const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+double H5Reader::attribute(const std::string& name) const {
+  const hid_t a = H5Aopen(file_, name.c_str(), H5P_DEFAULT);
   double v = 0;
   const herr_t e = a < 0 ? -1 : H5Aread(a, H5T_NATIVE_DOUBLE, &v);
   if (a >= 0) H5Aclose(a);
-  H5Fclose(f);
-  check(e, "cannot read attribute " + name);
+  check(e, "cannot read attribute " + name + " in " + path_);
   return v;
 }
 
-bool h5_has_dataset(const std::string& path, const std::string& name) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
-  const bool has = H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0;
-  H5Fclose(f);
-  return has;
-}
-
-std::string h5_read_string_attribute(const std::string& path, const std::string& name) {
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error("HDF5: cannot open " + path);
-  const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+std::string H5Reader::string_attribute(const std::string& name) const {
+  const hid_t a = H5Aopen(file_, name.c_str(), H5P_DEFAULT);
   std::string v;
   herr_t e = -1;
   if (a >= 0) {
     const hid_t type = H5Aget_type(a);
-    const std::size_t n = H5Tget_size(type);
-    std::vector<char> buf(n + 1, '\0');
+    std::vector<char> buf(H5Tget_size(type) + 1, '\0');
     e = H5Aread(a, type, buf.data());
     v = buf.data();
     H5Tclose(type);
     H5Aclose(a);
   }
-  H5Fclose(f);
-  check(e, "cannot read attribute " + name);
+  check(e, "cannot read attribute " + name + " in " + path_);
   return v;
 }
 

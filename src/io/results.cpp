@@ -24,7 +24,7 @@ std::string RunWriter::csv_header() {
 }
 
 RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-                     const mc::Model<>&, int resume_step)
+                     int resume_step)
     : deck_(d), s_(s), f_(f), dir_(d.output.directory), csv_(csv_header()) {
   std::filesystem::create_directories(dir_);
   if (resume_step >= 0) {
@@ -45,7 +45,7 @@ RunWriter::RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
       if (!(n.starts_with("dump_") && n.ends_with(".h5"))) continue;
       const int step = std::stoi(n.substr(5, n.size() - 8));
       if (step > resume_step) std::filesystem::remove(p);
-      else dumps_.push_back({step, h5_read_attribute(p.string(), "displacement"), n});
+      else dumps_.push_back({step, H5Reader(p.string()).attribute("displacement"), n});
     }
     write_file_atomic(dir_ / "steps.csv", csv_);
     return;
@@ -194,25 +194,25 @@ void RunWriter::write_checkpoint(const std::filesystem::path& path, const mc::Ch
 }
 
 mc::Checkpoint RunWriter::read_checkpoint(const std::filesystem::path& path) {
-  const std::string p = path.string();
-  auto i64 = [&](const char* n) { return static_cast<long>(h5_read_attribute(p, n)); };
+  const H5Reader h(path.string());
+  auto i64 = [&](const char* n) { return static_cast<long>(h.attribute(n)); };
   mc::Checkpoint c;
-  c.colouring = h5_read_string_attribute(p, "colouring");
+  c.colouring = h.string_attribute("colouring");
   c.run.step = static_cast<int>(i64("step"));
-  c.run.increment = h5_read_attribute(p, "increment");
-  c.run.previous_increment = h5_read_attribute(p, "previous_increment");
+  c.run.increment = h.attribute("increment");
+  c.run.previous_increment = h.attribute("previous_increment");
   c.run.have_previous = i64("have_previous") != 0;
-  c.displacement = h5_read_attribute(p, "displacement");
-  c.step_size = h5_read_attribute(p, "step_size");
-  c.rot_step = h5_read_attribute(p, "rot_step");
+  c.displacement = h.attribute("displacement");
+  c.step_size = h.attribute("step_size");
+  c.rot_step = h.attribute("rot_step");
   c.global_cycle = static_cast<std::uint64_t>(i64("global_cycle"));
   c.accepted_total = i64("accepted_total");
   c.trials_total = i64("trials_total");
   c.window_accepted = i64("window_accepted");
   c.window_trials = i64("window_trials");
-  c.pose = h5_read_doubles(p, "/pose");
-  c.previous_pose = h5_read_doubles(p, "/previous_pose");
-  if (h5_has_dataset(p, "/brick_step")) c.brick_step = h5_read_doubles(p, "/brick_step");
+  c.pose = h.doubles("/pose");
+  c.previous_pose = h.doubles("/previous_pose");
+  if (h.has("/brick_step")) c.brick_step = h.doubles("/brick_step");
   return c;
 }
 

@@ -16,7 +16,8 @@ void alloc_tile_offset(Model<>& m, const std::vector<int>& toff) {
 }  // namespace
 
 Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const Colouring& colouring, const deck::Mortar& mortar, int quadrature_points) {
+                    const geometry::Adjacency& adj, const Colouring& colouring,
+                    const deck::Mortar& mortar, int quadrature_points) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::build_model");
   Model<> m;
   const int n = static_cast<int>(s.size()), ni = static_cast<int>(f.size());
@@ -60,15 +61,14 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
   // Interfaces are renumbered in the order the sweep first touches them (bricks in sweep order,
   // each brick's interfaces in turn), so the largest colours stream through the interface
   // array instead of hopping across it. iperm[new] = old.
-  const auto adj0 = geometry::build_adjacency(s.size(), f);
   std::vector<int> iperm;
   iperm.reserve(ni);
   {
     std::vector<char> seen(ni, 0);
     for (int k = 0; k < n; ++k) {
       const int b = m.perm[k];
-      for (int j = adj0.offset[b]; j < adj0.offset[b + 1]; ++j)
-        if (!seen[adj0.iface[j]]) seen[adj0.iface[j]] = 1, iperm.push_back(adj0.iface[j]);
+      for (int j = adj.offset[b]; j < adj.offset[b + 1]; ++j)
+        if (!seen[adj.iface[j]]) seen[adj.iface[j]] = 1, iperm.push_back(adj.iface[j]);
     }
   }
 

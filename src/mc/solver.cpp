@@ -44,7 +44,7 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
     double best = std::numeric_limits<double>::max();
     for (const auto& name : colouring_strategies()) {
       Colouring c = colour(name);
-      m_ = build_model(s, f, c, d.mortar, d.solver.quadrature_points);
+      m_ = build_model(s, f, adj, c, d.mortar, d.solver.quadrature_points);
       allocate_work();
       set_load(d.load.initial_step);
       cycle();  // warm-up (first touch, instantiation)
@@ -78,7 +78,7 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
     window_accepted_ = window_trials_ = accepted_total_ = trials_total_ = 0;
   }
   Colouring c = colour(chosen);
-  m_ = build_model(s, f, c, d.mortar, d.solver.quadrature_points);
+  m_ = build_model(s, f, adj, c, d.mortar, d.solver.quadrature_points);
   allocate_work();
   D_ = 0;
   set_load(0);
@@ -165,17 +165,16 @@ long Solver::cycle() {
   accepted_total_ += accepted;
   trials_total_ += m_.n_free;
   const auto& S = deck_.solver;
-  if (brick_steps_.active() && S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0) {
-    adapt_brick_steps(brick_steps_, m_.n_free, S.adapt_interval, S.min_step, S.max_step, S.min_rot_step,
-                      S.max_rot_step);
-    window_accepted_ = window_trials_ = 0;
-  } else if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0 && window_trials_ > 0) {
-    // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
-    // restart with each load step): scale by (0.5 + a) when the acceptance a leaves [0.4, 0.6]
-    const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
-    if (a < 0.4 || a > 0.6) {
-      step_ = std::clamp(step_ * (0.5 + a), S.min_step, S.max_step);
-      rot_step_ = std::clamp(rot_step_ * (0.5 + a), S.min_rot_step, S.max_rot_step);
+  // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
+  // restart with each load step), per brick or for the global pair
+  if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0) {
+    if (brick_steps_.active()) {
+      adapt_brick_steps(brick_steps_, m_.n_free, S.adapt_interval, S.min_step, S.max_step, S.min_rot_step,
+                        S.max_rot_step);
+    } else if (window_trials_ > 0) {
+      const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
+      step_ = adapted_step(step_, a, S.min_step, S.max_step);
+      rot_step_ = adapted_step(rot_step_, a, S.min_rot_step, S.max_rot_step);
     }
     window_accepted_ = window_trials_ = 0;
   }
@@ -367,12 +366,9 @@ void Solver::restore(const Checkpoint& c) {
 }
 
 void Solver::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
-  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
-  x.assign(m_.n_bricks, 0), y.assign(m_.n_bricks, 0), t.assign(m_.n_bricks, 0);
-  for (int k = 0; k < m_.n_bricks; ++k) {
-    const int i = m_.perm[k];
-    x[i] = hp(k, 0), y[i] = hp(k, 1), t[i] = hp(k, 2);
-  }
+  const std::vector<double> p = to_original_order(m_.pose, m_.perm);
+  x.resize(m_.n_bricks), y.resize(m_.n_bricks), t.resize(m_.n_bricks);
+  for (int i = 0; i < m_.n_bricks; ++i) x[i] = p[3 * i], y[i] = p[3 * i + 1], t[i] = p[3 * i + 2];
 }
 
 }  // namespace nacre::mc

@@ -31,10 +31,24 @@ private:
   long file_ = -1;
 };
 
-/// \brief Read back a dataset (for checkpoints and tests).
-std::vector<double> h5_read_doubles(const std::string& path, const std::string& name);
-double h5_read_attribute(const std::string& path, const std::string& name);
-bool h5_has_dataset(const std::string& path, const std::string& name);
-std::string h5_read_string_attribute(const std::string& path, const std::string& name);
+/// \brief Reads datasets and scalar attributes back (checkpoints, restarts); the file stays open
+/// for the reader's lifetime.
+class H5Reader {
+public:
+  explicit H5Reader(const std::string& path);
+  ~H5Reader();
+  H5Reader(const H5Reader&) = delete;
+  H5Reader& operator=(const H5Reader&) = delete;
+
+  [[nodiscard]] bool has(const std::string& dataset) const;
+  [[nodiscard]] std::vector<double> doubles(const std::string& dataset) const;
+  /// \brief A numeric scalar attribute, converted to double (exact for counts below 2^53).
+  [[nodiscard]] double attribute(const std::string& name) const;
+  [[nodiscard]] std::string string_attribute(const std::string& name) const;
+
+private:
+  std::string path_;
+  long file_ = -1;
+};
 
 }  // namespace nacre::io

@@ -19,7 +19,7 @@ public:
   /// \brief Creates the directory and writes mesh.h5 (call only after the deck validated). With
   /// `resume_step` >= 0 (a restart) the outputs of steps up to it are kept and later ones removed.
   RunWriter(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-            const mc::Model<>& m, int resume_step = -1);
+            int resume_step = -1);
 
   void step(const mc::StepRecord& r);
   /// \brief HDF5 dump of the current state, and checkpoint.h5 beside it.

@@ -217,8 +217,14 @@ void predict_poses(const Model<typename ExecutionSpace::memory_space>& m,
       });
 }
 
-/// \brief eq. 2.7 per brick: after `interval` trials, scale the brick's steps by (0.5 + a) when
-/// its acceptance a leaves [0.4, 0.6], clamp, and restart its count.
+/// \brief eq. 2.7: a step size s after a window with acceptance a: s (0.5 + a) clamped to
+/// [lo, hi] when a is outside [0.4, 0.6], else unchanged.
+KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double hi) {
+  return (a < 0.4 || a > 0.6) ? Kokkos::clamp(s * (0.5 + a), lo, hi) : s;
+}
+
+/// \brief eq. 2.7 per brick: after `interval` trials, adapt each brick's steps to its own
+/// acceptance (adapted_step) and restart its count.
 template <class ExecutionSpace = ExecSpace>
 void adapt_brick_steps(const BrickSteps<typename ExecutionSpace::memory_space>& bs, int n_free, int interval,
                        double min_step, double max_step, double min_rot, double max_rot) {
@@ -227,10 +233,8 @@ void adapt_brick_steps(const BrickSteps<typename ExecutionSpace::memory_space>& 
   Kokkos::parallel_for(
       "nacre::mc::adapt_brick_steps", Kokkos::RangePolicy<ExecutionSpace>(0, n_free), KOKKOS_LAMBDA(const int b) {
         const double a = static_cast<double>(acc(b)) / interval;
-        if (a < 0.4 || a > 0.6) {
-          step(b, 0) = Kokkos::clamp(step(b, 0) * (0.5 + a), min_step, max_step);
-          step(b, 1) = Kokkos::clamp(step(b, 1) * (0.5 + a), min_rot, max_rot);
-        }
+        step(b, 0) = adapted_step(step(b, 0), a, min_step, max_step);
+        step(b, 1) = adapted_step(step(b, 1), a, min_rot, max_rot);
         acc(b) = 0;
       });
 }

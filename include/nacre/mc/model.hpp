@@ -59,7 +59,8 @@ struct Model {
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
 /// and uploads everything. Poses start at zero.
 Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const Colouring& colouring, const deck::Mortar& mortar, int quadrature_points);
+                    const geometry::Adjacency& adj, const Colouring& colouring,
+                    const deck::Mortar& mortar, int quadrature_points);
 
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>
