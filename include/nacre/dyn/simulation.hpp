@@ -1,0 +1,120 @@
+#pragma once
+/// \file
+/// \brief Deformable bricks in time (Chapter 4, MODEL.md §5): the public face of the dynamics
+/// solver family. The driver (src/app), the outputs and the benchmarks see only this header; the
+/// element library, the interface assembly and the integrators live behind it in src/dyn.
+///
+/// CONTRACT between the dynamics core (src/dyn, include/nacre/dyn) and its users (app, io, perf):
+/// names and meanings below are fixed; the core may add members, never change these silently.
+#include <nacre/geometry/specimen.hpp>
+
+#include <Kokkos_Core.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nacre::dyn {
+
+/// \brief Time integrators: UE = unbolted explicit (eq. 4.4, each triangle its own element, stiff
+/// internal joints on the diagonals), BE = bolted explicit (eq. 4.5, one (n+1)-node element per
+/// brick). Part 4b adds BIE.
+enum class Method : std::uint8_t { ue, be };
+
+/// \brief Time profile of the prescribed opening D(t).
+enum class Ramp : std::uint8_t { linear, smooth };
+
+/// \brief Everything that fixes a dynamic run, in one consistent unit system: N, mm, t (tonne), s.
+/// Geometry and the bed/head laws come from the deck's [geometry] and [mortar] sections (mm, N/mm^3).
+struct Params {
+  Method method = Method::be;
+  double youngs_modulus = 214.99 * 500;  ///< E, N/mm^2 (MODEL.md §5: 214.99 r for stiffness ratio r)
+  double poisson = 0.35;                 ///< nu (plane stress)
+  double density = 3.7e-9;               ///< rho, t/mm^3
+  double thickness = 1.0;                ///< out-of-plane depth, mm
+  double internal_stiffness_factor = 50; ///< UE internal joints: k_int = factor * E / brick_height
+  double alpha_d = 0, beta_d = 0;        ///< Rayleigh damping C = alpha_d M + beta_d K (1/s, s)
+  double dt = 0;                         ///< time step, s (> 0 when the Simulation is built)
+  double rate = 0;                       ///< opening rate dD/dt once ramped up, mm/s
+  double ramp_time = 0;                  ///< s over which the rate ramps from 0 (0: none)
+  Ramp ramp = Ramp::linear;
+  double final_displacement = 0;         ///< D at which the opening stops growing (held after), mm
+  double tension = 0, bending = 1;       ///< load pattern weights, as in the rigid deck's [load]
+  double thermal_strain = 0;             ///< uniform thermal load Theta (isotropic eigenstrain)
+  double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none)
+  bool share_element_matrices = true;    ///< one matrix set per element type (false: per element)
+};
+
+/// \brief Energy bookkeeping at the current time (all in N*mm). The balance residual is
+/// external_work - (strain + kinetic + cohesive + damping_dissipated), relative to max(|terms|).
+struct Energies {
+  double strain = 0, kinetic = 0, cohesive = 0, damping_dissipated = 0, external_work = 0;
+  double balance_residual = 0;
+};
+
+/// \brief Host copy of everything an output needs (solver-neutral names are given by the writer).
+/// Triangles are always reported (BE maps its bricks back onto their triangles).
+struct Snapshot {
+  double time = 0, displacement = 0;
+  std::vector<double> node_x, node_y;        ///< reference positions of the output nodes
+  std::vector<double> ux, uy, vx, vy;        ///< displacement and velocity per output node
+  std::vector<int> tri;                      ///< 3 output-node indices per triangle
+  std::vector<int> tri_brick;                ///< brick of each triangle
+  std::vector<double> tri_sxx, tri_syy, tri_sxy;  ///< Cauchy stress per triangle, N/mm^2
+  std::vector<double> brick_syy;             ///< area-weighted vertical stress per brick (Fig. 4.5)
+  std::vector<double> iface_damage;          ///< per bed/head interface: 0 intact .. 1 ruptured (max over its quadrature points)
+  std::vector<int> iface_state;              ///< 0 elastic, 1 softening/plastic, 2 ruptured
+};
+
+/// \brief Named arrays that restore a run bit for bit (the checkpoint writer stores them as-is).
+using StateArrays = std::map<std::string, std::vector<double>>;
+
+/// \brief The dynamic solver (pimpl: Kokkos views and the element tables stay in src/dyn).
+class Simulation {
+public:
+  Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+             const deck::Mortar& mortar);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  /// \brief Advance n steps on `space`. Returns false (state left at the last finite step) if a
+  /// non-finite value or a blow-up (see is_unstable) appeared; `why()` then names step, time, quantity.
+  bool advance(const Kokkos::DefaultExecutionSpace& space, long n);
+  [[nodiscard]] const std::string& why() const;
+
+  [[nodiscard]] double time() const;
+  [[nodiscard]] long steps() const;
+  [[nodiscard]] double displacement() const;  ///< applied opening D(t)
+  [[nodiscard]] Energies energies() const;
+  [[nodiscard]] double reaction() const;       ///< vertical force on the top driven edge, N
+  [[nodiscard]] int ruptured() const;          ///< bed/head interfaces ruptured
+  [[nodiscard]] Snapshot snapshot() const;
+
+  [[nodiscard]] StateArrays save_state() const;
+  void restore_state(const StateArrays& a);    ///< throws std::runtime_error on a size/shape mismatch
+
+  /// \brief Bytes of device memory held (model + state), and how many element types were shared.
+  [[nodiscard]] std::size_t bytes() const;
+  [[nodiscard]] int element_types() const;
+  [[nodiscard]] std::size_t bricks() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// \brief Largest stable step of p.method for this specimen: bisection over dt, each trial a
+/// fresh Simulation advanced `steps` steps; stable = finite and kinetic energy below a bound from
+/// the work done (stated in docs/dynamics.md). Relative tolerance `rtol`.
+[[nodiscard]] double critical_step(const Params& p, const geometry::Specimen& s,
+                                   const geometry::Interfaces& f, const deck::Mortar& mortar,
+                                   long steps = 2000, double rtol = 0.01);
+
+/// \brief Rayleigh (alpha_d, beta_d) of Table 4.2 (MODEL.md §5 unit reading) for the nearest
+/// tabulated brick count and stiffness ratio.
+void table_4_2_damping(std::size_t bricks, double stiffness_ratio, double& alpha_d, double& beta_d);
+
+}  // namespace nacre::dyn
