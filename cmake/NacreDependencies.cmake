@@ -1,5 +1,16 @@
 # Third-party libraries. Each one is a Debian package in the dev root; on other machines
 # (Spack, modules) the usual CMake config/find modules locate them.
+if(NACRE_BENCHMARKS_ONLY)
+  # the core library names these targets; what needs them (deck parser, HDF5 output, app) is
+  # left out of the build (src/CMakeLists.txt), so empty stand-ins do where they are missing
+  find_package(Eigen3 3.3 QUIET NO_MODULE)
+  foreach(_t Eigen3::Eigen HDF5::HDF5 tomlplusplus::tomlplusplus)
+    if(NOT TARGET ${_t})
+      add_library(${_t} INTERFACE IMPORTED)
+    endif()
+  endforeach()
+  message(STATUS "nacre: benchmarks-only build: no deck parser, HDF5 output, app or tests")
+else()
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(HDF5 REQUIRED COMPONENTS C)
 
@@ -10,6 +21,7 @@ if(NOT TARGET tomlplusplus::tomlplusplus)
   add_library(tomlplusplus::tomlplusplus INTERFACE IMPORTED)
   target_include_directories(tomlplusplus::tomlplusplus INTERFACE ${NACRE_TOMLPP_INCLUDE})
 endif()
+endif()
 find_package(CLI11 2 QUIET CONFIG)
 if(NOT TARGET CLI11::CLI11)
   find_path(NACRE_CLI11_INCLUDE CLI/CLI.hpp REQUIRED)
@@ -17,8 +29,17 @@ if(NOT TARGET CLI11::CLI11)
   target_include_directories(CLI11::CLI11 INTERFACE ${NACRE_CLI11_INCLUDE})
 endif()
 
-# Optional: Kokkos Kernels (not obtainable matched with Kokkos 5 OpenMP on Debian; never required).
-find_package(KokkosKernels QUIET CONFIG)
+# Optional: Kokkos Kernels, header-only use (the dev root builds it: devenv/nacre-env; elsewhere
+# a Spack or hand install is found through KokkosKernels_ROOT / CMAKE_PREFIX_PATH). Without it
+# nacre builds and runs fully; the "kokkos-d1" colouring and its tests and benchmark are skipped.
+option(NACRE_ENABLE_KOKKOSKERNELS "Use Kokkos Kernels when it is found" ON)
+if(NACRE_ENABLE_KOKKOSKERNELS)
+  find_package(KokkosKernels CONFIG QUIET)
+endif()
 if(KokkosKernels_FOUND)
-  message(STATUS "nacre: Kokkos Kernels found")
+  message(STATUS "nacre: Kokkos Kernels ${KokkosKernels_VERSION} found in ${KokkosKernels_DIR}: "
+                 "colouring strategy 'kokkos-d1', its tests and perf/colouring_compare are built")
+else()
+  message(STATUS "nacre: Kokkos Kernels not found (set KokkosKernels_ROOT to use it): SKIPPING the "
+                 "'kokkos-d1' colouring strategy, test_kokkos_kernels and nacre_perf_colouring")
 endif()

@@ -13,8 +13,10 @@
 #include <nacre/rng/uniform_source.hpp>
 
 #include <Random123/philox.h>
+#ifdef NACRE_HAVE_OPENSSL  // absent in the GPU runbook's bare build: --mode=openssl says so
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
+#endif
 
 #include <chrono>
 #include <cstdint>
@@ -92,6 +94,10 @@ void bench_nacre(const Options& o) {
 }
 
 void bench_openssl(const Options& o) {
+#ifndef NACRE_HAVE_OPENSSL
+  (void)o;
+  throw std::runtime_error("nacre_aes_bench was built without OpenSSL: --mode=openssl is not available");
+#else
   const std::string impl = o.label.empty() ? "openssl" : o.label;
   const char* cap = std::getenv("OPENSSL_ia32cap");
   std::fprintf(stderr, "OpenSSL %s, OPENSSL_ia32cap=%s\n", OpenSSL_version(OPENSSL_VERSION),
@@ -120,6 +126,7 @@ void bench_openssl(const Options& o) {
         "Gbit/s");
   }
   EVP_CIPHER_CTX_free(ctx);
+#endif
 }
 
 /// Random123's Philox4x32-10 with nacre's (stream, 2 draw + half) counter mapping. (A named

@@ -11,7 +11,11 @@ namespace nacre::mc {
 const std::vector<std::string>& colouring_strategies() {
   // order = preference on ties in the pre-simulation: tiles first (best cache use on CPUs;
   // on GPUs it is far slower and never ties), then the graph colourings
-  static const std::vector<std::string> s{"tiles", "natural", "largest-first", "balanced", "random"};
+  static const std::vector<std::string> s{"tiles", "natural", "largest-first", "balanced", "random",
+#ifdef NACRE_HAVE_KOKKOSKERNELS
+                                          "kokkos-d1",  // src/mc/colouring_kk.cpp
+#endif
+  };
   return s;
 }
 
@@ -47,6 +51,9 @@ Colouring colour_tiles(const geometry::Specimen& s, const std::vector<bool>& fre
 Colouring colour_graph(const std::string& strategy, const geometry::Specimen& s,
                        const geometry::Adjacency& adj, const std::vector<bool>& free, std::uint64_t seed) {
   if (strategy == "tiles") return colour_tiles(s, free);
+#ifdef NACRE_HAVE_KOKKOSKERNELS
+  if (strategy == "kokkos-d1") return colour_kokkos_d1(adj, free);
+#endif
   const std::size_t n = free.size();
   std::vector<int> order;
   order.reserve(n);

@@ -15,6 +15,14 @@
 #include <stdexcept>
 #include <vector>
 
+// A one-thread instance of the default execution space. partition_space(space, 1, 1) splits the
+// space's threads between two instances: Kokkos 4.6 refuses it on a 1-thread space ("Instance has
+// no resource allocated to it"; 5.2 accepts it), where the space itself already is one thread.
+[[maybe_unused]] static nacre::ExecSpace one_thread_instance() {
+  if (nacre::ExecSpace().concurrency() < 2) return nacre::ExecSpace();
+  return Kokkos::Experimental::partition_space(nacre::ExecSpace(), 1, 1)[0];
+}
+
 namespace {
 
 using HostBits = Kokkos::View<std::uint64_t* [4], Kokkos::LayoutLeft, Kokkos::HostSpace>;
@@ -206,10 +214,10 @@ TEST_CASE("AES sources are bit-identical whatever the thread count", "[rng][aes]
   Kokkos::View<std::uint8_t*, nacre::MemSpace> in("in", n), o1("o1", n), o2("o2", n);
   Kokkos::deep_copy(in, std::uint8_t(3));
   nacre::aes::aes128_ecb_encrypt(nacre::ExecSpace(), k, in, o1);
-  const auto parts = Kokkos::Experimental::partition_space(nacre::ExecSpace(), 1, 1);
-  nacre::aes::aes128_ecb_encrypt(parts[0], k, in, o2);
+  const auto part = one_thread_instance();
+  nacre::aes::aes128_ecb_encrypt(part, k, in, o2);
   Kokkos::fence();
-  parts[0].fence();
+  part.fence();
   auto h1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), o1);
   auto h2 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), o2);
   CHECK(std::memcmp(h1.data(), h2.data(), n) == 0);

@@ -46,7 +46,9 @@
 #define NACRE_AES_HAVE_VECTOR_EXT 1
 #endif
 
-#if defined(__CUDACC__) || defined(__HIPCC__) || defined(__clang__)
+// nvcc's host pass hands the code to g++, which knows only "GCC unroll": "unroll" for the device
+// passes (and clang) only
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__) || defined(__clang__)
 #define NACRE_AES_UNROLL _Pragma("unroll")
 #elif defined(__GNUC__)
 #define NACRE_AES_UNROLL _Pragma("GCC unroll 128")

@@ -71,7 +71,7 @@ struct Solver {
   double window_upper_mul = 50000;  ///< WindowUpperMul: c_u = WindowUpperMul * ConvergenceRep
   long max_cycles = 2000000;     ///< hard cap of cycles per load step
   int quadrature_points = 4;     ///< Gauss-Legendre points per interface (1..8)
-  std::string colouring = "auto";  ///< auto | natural | largest-first | random | balanced | tiles
+  std::string colouring = "auto";  ///< auto | natural | largest-first | random | balanced | tiles | kokkos-d1
   std::string rng = "philox";    ///< philox | aes-ctr | mt-aes
   int presim_cycles = 20;        ///< cycles per candidate colouring in the pre-simulation
 };
