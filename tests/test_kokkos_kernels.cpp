@@ -95,12 +95,15 @@ TEST_CASE("KokkosBatched: team GEMV and LU solve of a batch of small matrices ma
   Kokkos::deep_copy(b, hb);
   const double alpha = 1.5, beta = -0.25;
   using member = Kokkos::TeamPolicy<exec>::member_type;
+  // batched TeamGemv: each team multiplies a block of `per_team` matrices (rank-3 A, rank-2 x, y)
+  constexpr int per_team = 8;
   Kokkos::parallel_for(
-      "nacre::test::batched_gemv", Kokkos::TeamPolicy<exec>(batch, Kokkos::AUTO), KOKKOS_LAMBDA(const member& t) {
-        const int k = t.league_rank();
+      "nacre::test::batched_gemv", Kokkos::TeamPolicy<exec>(batch / per_team, Kokkos::AUTO),
+      KOKKOS_LAMBDA(const member& t) {
+        const auto r = Kokkos::make_pair(t.league_rank() * per_team, (t.league_rank() + 1) * per_team);
         KokkosBatched::TeamGemv<member, KokkosBatched::Trans::NoTranspose, KokkosBatched::Algo::Gemv::Unblocked>::invoke(
-            t, alpha, Kokkos::subview(A, k, Kokkos::ALL, Kokkos::ALL), Kokkos::subview(x, k, Kokkos::ALL), beta,
-            Kokkos::subview(y, k, Kokkos::ALL));
+            t, alpha, Kokkos::subview(A, r, Kokkos::ALL, Kokkos::ALL), Kokkos::subview(x, r, Kokkos::ALL), beta,
+            Kokkos::subview(y, r, Kokkos::ALL));
       });
   Kokkos::parallel_for(
       "nacre::test::batched_lu", Kokkos::RangePolicy<exec>(0, batch), KOKKOS_LAMBDA(const int k) {
