@@ -92,7 +92,9 @@ build_one() {
   t0=$(date +%s)
   tar xzf "$DEPS/$src.tar.gz" -C "$work"
   if [ "$name" = kokkos-cuda ]; then
-    (cd "$work/$src" && patch -s -p1 < "$DEPS/kokkos-cuda13.patch")
+    # patch(1) where present, else git apply (the dev root has git, not patch)
+    if command -v patch >/dev/null; then (cd "$work/$src" && patch -s -p1 < "$DEPS/kokkos-cuda13.patch")
+    else (cd "$work/$src" && git apply -p1 "$DEPS/kokkos-cuda13.patch"); fi
   fi
   args=${args//@SRC@/$work/$src}
   # shellcheck disable=SC2086  # args is a list of -D options without spaces inside

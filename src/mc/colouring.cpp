@@ -10,12 +10,10 @@ namespace nacre::mc {
 
 const std::vector<std::string>& colouring_strategies() {
   // order = preference on ties in the pre-simulation: tiles first (best cache use on CPUs;
-  // on GPUs it is far slower and never ties), then the graph colourings
-  static const std::vector<std::string> s{"tiles", "natural", "largest-first", "balanced", "random",
-#ifdef NACRE_HAVE_KOKKOSKERNELS
-                                          "kokkos-d1",  // src/mc/colouring_kk.cpp
-#endif
-  };
+  // on GPUs it is far slower and never ties), then the graph colourings. Kokkos Kernels'
+  // "kokkos-d1" (colour_graph knows it) is no candidate: more colours, worse balance and ~1000x
+  // the time to colour (docs/design.md, "Which colouring").
+  static const std::vector<std::string> s{"tiles", "natural", "largest-first", "balanced", "random"};
   return s;
 }
 
@@ -52,7 +50,7 @@ Colouring colour_graph(const std::string& strategy, const geometry::Specimen& s,
                        const geometry::Adjacency& adj, const std::vector<bool>& free, std::uint64_t seed) {
   if (strategy == "tiles") return colour_tiles(s, free);
 #ifdef NACRE_HAVE_KOKKOSKERNELS
-  if (strategy == "kokkos-d1") return colour_kokkos_d1(adj, free);
+  if (strategy == "kokkos-d1") return colour_kokkos_d1(adj, free);  // src/mc/colouring_kk.cpp
 #endif
   const std::size_t n = free.size();
   std::vector<int> order;

@@ -25,7 +25,8 @@ namespace {
 /// wall order, coloured on `space`. Kokkos Kernels' handle (4.7) takes no execution-space
 /// instance: the call runs on the space's default instance, hence the fence before returning.
 template <class ExecSpace>
-Colouring colour_d1(const ExecSpace& space, const geometry::Adjacency& adj, const std::vector<bool>& free) {
+Colouring colour_d1(const ExecSpace& space, const geometry::Adjacency& adj, const std::vector<bool>& free,
+                    bool deterministic) {
   using Mem = typename ExecSpace::memory_space;
   using Handle = KokkosKernels::Experimental::KokkosKernelsHandle<int, int, double, ExecSpace, Mem, Mem>;
   Kokkos::Profiling::ScopedRegion region("nacre::mc::colour_kokkos_d1");
@@ -52,12 +53,12 @@ Colouring colour_d1(const ExecSpace& space, const geometry::Adjacency& adj, cons
   space.fence("nacre::mc::colour_kokkos_d1: upload");
 
   Handle kh;
-  kh.create_graph_coloring_handle(KokkosGraph::COLORING_VBD);
+  kh.create_graph_coloring_handle(deterministic ? KokkosGraph::COLORING_VBD : KokkosGraph::COLORING_DEFAULT);
   KokkosGraph::Experimental::graph_color(&kh, nv, nv, row, ent);
   auto* ch = kh.get_graph_coloring_handle();
   const auto colours = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, ch->get_vertex_colors());
   Colouring c;
-  c.name = "kokkos-d1";
+  c.name = deterministic ? "kokkos-d1" : "kokkos-d1-default";
   c.colour.assign(n, -1);
   c.tile.assign(n, -1);
   for (int v = 0; v < nv; ++v) {
@@ -72,8 +73,8 @@ Colouring colour_d1(const ExecSpace& space, const geometry::Adjacency& adj, cons
 
 }  // namespace
 
-Colouring colour_kokkos_d1(const geometry::Adjacency& adj, const std::vector<bool>& free) {
-  return colour_d1(Kokkos::DefaultExecutionSpace{}, adj, free);
+Colouring colour_kokkos_d1(const geometry::Adjacency& adj, const std::vector<bool>& free, bool deterministic) {
+  return colour_d1(Kokkos::DefaultExecutionSpace{}, adj, free, deterministic);
 }
 
 }  // namespace nacre::mc

@@ -36,8 +36,11 @@ struct Colouring {
 
 /// \brief Kokkos Kernels' deterministic distance-1 colouring (strategy "kokkos-d1", vertex-based
 /// VBD), run in parallel on the default execution space. Defined only when nacre is built with
-/// Kokkos Kernels (NACRE_HAVE_KOKKOSKERNELS); see src/mc/colouring_kk.cpp.
-[[nodiscard]] Colouring colour_kokkos_d1(const geometry::Adjacency& adj, const std::vector<bool>& free);
+/// Kokkos Kernels (NACRE_HAVE_KOKKOSKERNELS); see src/mc/colouring_kk.cpp. deterministic = false
+/// selects the library's default algorithm for the backend (faster, but the colouring depends on
+/// thread timing: measured in perf/colouring_compare.cpp, never used for a run).
+[[nodiscard]] Colouring colour_kokkos_d1(const geometry::Adjacency& adj, const std::vector<bool>& free,
+                                         bool deterministic = true);
 
 /// \brief The strategies colour_graph knows, in the order the pre-simulation tries them.
 [[nodiscard]] const std::vector<std::string>& colouring_strategies();
