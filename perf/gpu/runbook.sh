@@ -73,7 +73,8 @@ say "MC sweep throughput ($schedules; $mc_sizes bricks)"
 timed "$B/perf/nacre_perf_mc" --bricks "$mc_sizes" --cycles "$cyc" --colouring "$schedules" --csv "$OUT/mc_throughput.csv" 2>&1 | tee -a "$LOG"
 if [ -x "$B/perf/nacre_perf_colouring" ]; then
   say "colourings: colours, balance, time to colour ($col_sizes bricks)"
-  timed "$B/perf/nacre_perf_colouring" --bricks "$col_sizes" --csv "$OUT/colouring.csv" 2>&1 | tee -a "$LOG"
+  timed "$B/perf/nacre_perf_colouring" --bricks "$col_sizes" --csv "$OUT/colouring.csv" \
+    --colouring tiles,natural,largest-first,balanced,random,kokkos-d1,kokkos-d1-default 2>&1 | tee -a "$LOG"
 fi
 say "AES-128 (nacre bitsliced) and random-number throughput"
 echo "kind,impl,threads,size_bytes,count,seconds,rate,unit" > "$OUT/aes_bench.csv"
