@@ -36,10 +36,14 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
   };
   source_ = rng::make_uniform_source(d.solver.rng, d.seed);
   std::string chosen = d.solver.colouring;
-  if (chosen == "auto") {
+  // "auto" is a fixed rule, so the same deck and seed give the same result on the same build:
+  // tiles (cache-friendly, one thread per tile) where the default space runs on the host, the
+  // per-brick natural colouring (one thread per brick) on devices.
+  if (chosen == "auto") chosen = auto_colouring();
+  if (chosen == "fastest") {
     // Pre-simulation (§2.4): a few cycles at the first load increment with each candidate; the
-    // fastest wins. (The choice depends on timings; pin `colouring` for bit-reproducible runs
-    // across machines — the chosen name is logged and written to the outputs.)
+    // fastest wins. The choice depends on timings, so results may differ between runs; the pick
+    // is logged, written to summary.json and kept by the checkpoint.
     Kokkos::Profiling::ScopedRegion pre("nacre::mc::presimulation");
     double best = std::numeric_limits<double>::max();
     for (const auto& name : colouring_strategies()) {
@@ -86,6 +90,10 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
   if (log_) *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << m_.n_free
                   << " free and " << (m_.n_bricks - m_.n_free) << " driven bricks, " << m_.n_interfaces
                   << " interfaces\n";
+}
+
+std::string auto_colouring() {
+  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, ExecSpace::memory_space>::accessible ? "tiles" : "natural";
 }
 
 void Solver::allocate_work() {
@@ -200,6 +208,10 @@ long Solver::relax(bool& converged) {
     }
     if (on_progress && c % 1000 == 0) on_progress(c, E_);
     if (cycle_limit_ > 0 && c >= cycle_limit_) break;
+    if (should_stop && should_stop()) {
+      interrupted_ = true;
+      break;
+    }
   }
   E_ = energy();
   return c;
@@ -227,6 +239,10 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   int& step = run_.step;
   const double final_d = L.final_displacement;
   while (D_ < final_d * (1 - 1e-12)) {
+    if (should_stop && should_stop()) {
+      interrupted_ = true;
+      return;
+    }
     Kokkos::Timer timer;
     double inc_now = std::min(inc, final_d - D_);
     const double D0 = D_;
@@ -243,6 +259,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       cycle_limit_ = may_revert ? static_cast<long>(c_u) : 0;
       cycles = relax(converged);
       cycle_limit_ = 0;
+      if (interrupted_) return;  // the step is abandoned; the caller keeps the last step's checkpoint
       if (may_revert && !converged && cycles >= static_cast<long>(c_u)) {
         // eq. 2.9: back to the last converged state, retry with a smaller increment
         Kokkos::deep_copy(m_.pose, save_pose_);
