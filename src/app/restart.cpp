@@ -4,8 +4,8 @@
 #include <Kokkos_Core.hpp>
 
 #include <cstdio>
+#include <map>
 #include <sstream>
-#include <vector>
 
 #ifndef NACRE_VERSION
 #define NACRE_VERSION "unknown"
@@ -27,37 +27,41 @@ std::string fingerprint(const std::string& text) {
 }
 
 namespace {
-std::vector<std::string> lines_of(const std::string& s) {
-  std::vector<std::string> out;
+/// \brief "key = value" lines as an ordered map (keys are unique in a physics text).
+std::map<std::string, std::string> entries(const std::string& s) {
+  std::map<std::string, std::string> out;
   std::istringstream in(s);
-  for (std::string l; std::getline(in, l);) out.push_back(l);
+  for (std::string l; std::getline(in, l);) {
+    const auto eq = l.find(" = ");
+    if (eq != std::string::npos) out[l.substr(0, eq)] = l.substr(eq + 3);
+  }
   return out;
 }
-std::string key_of(const std::string& line) { return line.substr(0, line.find(" = ")); }
 }  // namespace
 
 void check_fingerprint(const io::Checkpoint& c, const deck::Deck& d, const std::string& path) {
   const std::string mine = physics_text(d);
   if (c.fingerprint == fingerprint(mine)) return;
   std::string diff;
-  const auto it = c.strings.find("deck");
-  if (it != c.strings.end()) {
-    // first key whose line differs, reported with both values
-    const auto a = lines_of(it->second), b = lines_of(mine);
-    std::size_t i = 0, j = 0;
-    while (i < a.size() || j < b.size()) {
-      if (i < a.size() && j < b.size() && a[i] == b[j]) {
-        ++i, ++j;
-        continue;
-      }
-      if (i < a.size() && j < b.size() && key_of(a[i]) == key_of(b[j])) {
-        diff = a[i] + " in the checkpoint, " + b[j].substr(b[j].find(" = ") + 3) + " in " + d.path;
-      } else if (j >= b.size() || (i < a.size() && key_of(a[i]) < key_of(b[j]))) {
-        diff = a[i] + " in the checkpoint, not set in " + d.path;
+  if (const auto it = c.strings.find("deck"); it != c.strings.end()) {
+    // the first key (in name order) whose value differs or that only one side sets
+    const auto a = entries(it->second), b = entries(mine);
+    auto ia = a.begin();
+    auto ib = b.begin();
+    while (ia != a.end() || ib != b.end()) {
+      if (ia != a.end() && ib != b.end() && ia->first == ib->first) {
+        if (ia->second != ib->second) {
+          diff = ia->first + " = " + ia->second + " in the checkpoint, " + ib->second + " in " + d.path;
+          break;
+        }
+        ++ia, ++ib;
+      } else if (ib == b.end() || (ia != a.end() && ia->first < ib->first)) {
+        diff = ia->first + " = " + ia->second + " in the checkpoint, not set in " + d.path;
+        break;
       } else {
-        diff = b[j] + " in " + d.path + ", not set in the checkpoint's deck";
+        diff = ib->first + " = " + ib->second + " in " + d.path + ", not set in the checkpoint's deck";
+        break;
       }
-      break;
     }
   }
   throw io::CheckpointError(path + ": written by a different deck or build (fingerprint " + c.fingerprint +
