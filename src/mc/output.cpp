@@ -1,5 +1,6 @@
 // The MC solver's outputs in io's solver-neutral terms (issue 7 §1): CSV rows, dump snapshot,
 // summary, and the checkpoint as named arrays, range-checked on the way back (issue 6 point 2).
+#include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
 
 #include <cmath>
@@ -33,10 +34,13 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
   const auto& m = solver.model();
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
-  Field<double> be("nacre::mc::brick_energy_out", m.n_bricks), ie("nacre::mc::iface_energy_out", m.n_interfaces);
-  Field<std::int8_t> is("nacre::mc::iface_state_out", m.n_interfaces);
-  brick_energy(m, be);
-  interface_state(m, ie, is);
+  const auto& space = solver.space();
+  using Kokkos::view_alloc, Kokkos::WithoutInitializing;
+  Field<double> be(view_alloc(space, WithoutInitializing, "nacre::mc::brick_energy_out"), m.n_bricks);
+  Field<double> ie(view_alloc(space, WithoutInitializing, "nacre::mc::iface_energy_out"), m.n_interfaces);
+  Field<std::int8_t> is(view_alloc(space, WithoutInitializing, "nacre::mc::iface_state_out"), m.n_interfaces);
+  brick_energy(space, m, be);
+  interface_state(space, m, ie, is);
   auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
   auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
   auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
@@ -47,7 +51,7 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
   for (std::size_t i = 0; i < ni; ++i) ienergy[m.iface_perm[i]] = hie(i), istate[m.iface_perm[i]] = his(i);
   auto moved = [&](std::size_t b, double px, double py, double& ox, double& oy) {
     double dx, dy;
-    cohesive::point_displacement(cohesive::Pose{x[b], y[b], t[b]}, px - s.cx[b], py - s.cy[b], dx, dy);
+    kinematics::point_displacement(kinematics::Pose{x[b], y[b], t[b]}, px - s.cx[b], py - s.cy[b], dx, dy);
     ox = px + dx, oy = py + dy;
   };
   for (std::size_t b = 0; b < n; ++b)
