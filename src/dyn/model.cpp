@@ -56,7 +56,9 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   m.tension = p.tension, m.bending = p.bending, m.width = s.width > 0 ? s.width : 1.0;
   m.top_prescribed = p.force_top == 0.0;
   m.brick_height = whole_brick_height(s);
-  m.quad = cohesive::gauss_legendre(4);
+  if (p.quadrature_points < 1 || p.quadrature_points > 8)
+    throw std::invalid_argument("dyn: quadrature_points must be 1..8");
+  m.quad = cohesive::gauss_legendre(p.quadrature_points);
   m.law[kBed] = mortar.bed;
   m.law[kHead] = mortar.head;
   // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),

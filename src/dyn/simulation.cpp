@@ -12,7 +12,6 @@
 // factor > 1 every step, so the bound is crossed within a few dozen steps of the onset. On
 // failure the chunk is replayed step by step from a copy, so the state is left at the last good
 // step (the run is deterministic, the replay takes the same path).
-#include <nacre/dyn/element.hpp>
 #include <nacre/dyn/kernels.hpp>
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/simulation.hpp>
@@ -232,22 +231,19 @@ Snapshot Simulation::snapshot() const {
   s.tri_sxx.resize(ntri), s.tri_syy.resize(ntri), s.tri_sxy.resize(ntri);
   s.brick_syy.assign(I.n_bricks, 0.0);
   std::vector<double> barea(I.n_bricks, 0.0);
-  const Eigen::Matrix3d D = plane_stress(I.p.youngs_modulus, I.p.poisson);
   for (std::size_t k = 0; k < ntri; ++k) {
     const int e = M.tri_elem[k], t = M.elem_type[e], b = M.tri_brick[k];
-    std::array<double, 3> x{}, y{};
-    double ue[6];
+    double x[3], y[3], ue[6], sig[3], area;
     for (int c = 0; c < 3; ++c) {
       const int j = M.tri_local[k][c];
       s.tri[3 * k + c] = node0[e] + j;
       x[c] = M.type_x[t * kMaxNodes + j], y[c] = M.type_y[t * kMaxNodes + j];
       ue[2 * c] = hu(e, 2 * j), ue[2 * c + 1] = hu(e, 2 * j + 1);
     }
-    const Cst c = cst(x, y);
-    const Eigen::Vector3d sig = cst_stress(c, D, ue, I.p.thermal_strain);
+    triangle_stress(x, y, ue, I.p.youngs_modulus, I.p.poisson, I.p.thermal_strain, sig, area);
     s.tri_brick[k] = b;
-    s.tri_sxx[k] = sig(0), s.tri_syy[k] = sig(1), s.tri_sxy[k] = sig(2);
-    s.brick_syy[b] += sig(1) * c.area, barea[b] += c.area;
+    s.tri_sxx[k] = sig[0], s.tri_syy[k] = sig[1], s.tri_sxy[k] = sig[2];
+    s.brick_syy[b] += sig[1] * area, barea[b] += area;
   }
   for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
   // interface damage (bed/head only)

@@ -90,6 +90,12 @@ struct HostMap {
 Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const deck::Mortar& mortar, HostMap& map);
 
+/// \brief Cauchy stress (xx, yy, xy) of a CST with nodes (x, y), CCW, nodal displacements u
+/// (6), plane stress E, nu, isotropic eigenstrain eps_th (host; element.cpp). Plain arrays so
+/// that the kernel sources stay free of Eigen (nvcc warns on Eigen's headers).
+void triangle_stress(const double x[3], const double y[3], const double u[6], double E, double nu,
+                     double eps_th, double sig[3], double& area);
+
 /// \brief Bytes held by the model's views.
 std::size_t model_bytes(const Model<>& m);
 
