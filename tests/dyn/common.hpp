@@ -60,10 +60,11 @@ inline Setup make(const deck::Geometry& g) {
 
 namespace dyntest {
 
-/// Exact explicit critical step 2 / omega_max of the linearised undamped system (elastic
+/// omega^2 of the linearised undamped system (elastic
 /// interfaces: energy 1/2 k |jump|^2, Hessian k I), free elements only, assembled on the host
-/// from the model's own tables (elements + every interface of the model, UE's joints included).
-inline double exact_critical_step(dyn::Params p, const Setup& st, const deck::Mortar& mo) {
+/// from the model's own tables (elements + every interface of the model, UE's joints included);
+/// the exact explicit critical step is 2 / omega_max.
+inline Eigen::VectorXd linear_spectrum(dyn::Params p, const Setup& st, const deck::Mortar& mo) {
   dyn::HostMap map;
   p.dt = 1.0;  // (the step enters only (M + h/2 C)^-1, not used here)
   auto m = dyn::build_model(p, st.s, st.f, mo, map);
@@ -109,8 +110,10 @@ inline double exact_critical_step(dyn::Params p, const Setup& st, const deck::Mo
   }
   const Eigen::VectorXd mis = Mg.cwiseInverse().cwiseSqrt();
   const Eigen::MatrixXd S = mis.asDiagonal() * Kg * mis.asDiagonal();
-  const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-  return 2.0 / std::sqrt(lmax);
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues();  // omega^2, ascending
+}
+inline double exact_critical_step(const dyn::Params& p, const Setup& st, const deck::Mortar& mo) {
+  return 2.0 / std::sqrt(linear_spectrum(p, st, mo).maxCoeff());
 }
 
 /// Index of dof d of element e in the flattened state arrays (LayoutLeft: element fastest).
