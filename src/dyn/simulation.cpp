@@ -16,8 +16,6 @@
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/simulation.hpp>
 
-#include "load.hpp"
-
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -41,6 +39,8 @@ struct Simulation::Impl {
   AccView<Mem> acc, acc0;
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
+  loading::Ramp ramp;
+  Exec space;  ///< instance the run's kernels go to (set by advance)
   long step = 0;
   double e_ref = 0;
   std::string why;
@@ -66,16 +66,16 @@ struct Simulation::Impl {
   /// Driven elements at their prescribed values for time t (no step taken).
   void impose(const Exec& space, double t) {
     auto it = integrator();
-    const Opening o = opening(p, t);
-    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    const loading::Opening o = ramp(t);
+    it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     impose_drive(space, it, m.n_elem);
     space.fence();
   }
 
   void step_once(const Exec& space) {
-    const Opening o = opening(p, time_at(step + 1));
+    const loading::Opening o = ramp(time_at(step + 1));
     auto it = integrator();
-    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     ++step;
   }
@@ -89,13 +89,13 @@ struct Simulation::Impl {
     Kokkos::deep_copy(space, acc, acc0);
   }
 
-  double sum_acc(int col) { return column_sum(Exec{}, ws, acc, col, m.n_elem); }
+  double sum_acc(int col) { return column_sum(space, ws, acc, col, m.n_elem); }
   double kinetic(bool free_only, bool poison) {
-    return element_sum(Exec{}, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
+    return element_sum(space, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
                        m.n_elem);
   }
-  double strain() { return element_sum(Exec{}, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
-  double cohesive() { return cohesive_energy(Exec{}, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
+  double strain() { return element_sum(space, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
+  double cohesive() { return cohesive_energy(space, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
 
   /// True when the state is finite and below the kinetic-energy bound; else fills `why`.
   bool healthy() {
@@ -125,6 +125,8 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;
   I.p = p;
+  I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
+                         p.ramp_time, p.final_displacement};
   I.n_bricks = s.size();
   I.m = build_model(p, s, f, mortar, I.map);
   I.allocate();
@@ -144,6 +146,7 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
   auto& I = *impl_;
+  I.space = space;
   long done = 0;
   while (done < n) {
     const long chunk = std::min<long>(kCheckEvery, n - done);
@@ -178,7 +181,7 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
 const std::string& Simulation::why() const { return impl_->why; }
 double Simulation::time() const { return impl_->time_at(impl_->step); }
 long Simulation::steps() const { return impl_->step; }
-double Simulation::displacement() const { return opening(impl_->p, time()).D; }
+double Simulation::displacement() const { return impl_->ramp.displacement(time()); }
 
 Energies Simulation::energies() const {
   auto& I = *impl_;
@@ -200,7 +203,7 @@ double Simulation::reaction() const { return impl_->sum_acc(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
-  return count_ruptured(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+  return count_ruptured(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
 }
 
 Snapshot Simulation::snapshot() const {
@@ -250,7 +253,7 @@ Snapshot Simulation::snapshot() const {
   const int nm = I.m.n_mortar;
   Kokkos::View<double*> dmg("nacre::dyn::damage", std::max(nm, 1));
   Kokkos::View<int*> st("nacre::dyn::damage_state", std::max(nm, 1));
-  interface_damage(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
+  interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
   s.iface_damage.assign(hd.data(), hd.data() + nm);

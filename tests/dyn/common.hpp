@@ -96,7 +96,7 @@ inline Eigen::VectorXd linear_spectrum(dyn::Params p, const Setup& st, const dec
   }
   const auto q = cohesive::gauss_legendre(4);
   for (int i = 0; i < m.n_iface; ++i) {
-    const double klt = m.law[KK(i)].k * L(i) * p.thickness;
+    const double klt = m.laws[KK(i)].k * L(i) * p.thickness;
     for (int g = 0; g < q.n; ++g) {
       const double xa = XI(i, 0) + q.s[g] * (XI(i, 1) - XI(i, 0)), xb = XI(i, 2) + q.s[g] * (XI(i, 3) - XI(i, 2));
       const double Nn[4] = {-(1 - xa), -xa, 1 - xb, xb};
