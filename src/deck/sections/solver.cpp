@@ -31,11 +31,14 @@ void read_solver(Section& top, Deck& d) {
   s.integer("max_cycles", {}, S.max_cycles, 1, 1000000000000L, "a cycle count >= 1");
   s.integer("quadrature_points", {}, S.quadrature_points, 1, 8, "an integer in [1, 8]");
 #ifdef NACRE_HAVE_KOKKOSKERNELS
-  s.string("colouring", S.colouring, {"auto", "natural", "largest-first", "random", "balanced", "tiles", "kokkos-d1"},
-           "one of \"auto\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\", \"kokkos-d1\"");
+  s.string("colouring", S.colouring,
+           {"auto", "fastest", "natural", "largest-first", "random", "balanced", "tiles", "kokkos-d1"},
+           "one of \"auto\", \"fastest\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\", "
+           "\"kokkos-d1\"");
 #else
-  s.string("colouring", S.colouring, {"auto", "natural", "largest-first", "random", "balanced", "tiles"},
-           "one of \"auto\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\" "
+  s.string("colouring", S.colouring,
+           {"auto", "fastest", "natural", "largest-first", "random", "balanced", "tiles"},
+           "one of \"auto\", \"fastest\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\" "
            "(\"kokkos-d1\" needs nacre built with Kokkos Kernels)");
 #endif
   s.integer("presim_cycles", {}, S.presim_cycles, 1, 100000, "an integer in [1, 100000]");
