@@ -4,6 +4,9 @@
 #include <nacre/io/results.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "progress.hpp"
+#include "run_dynamics.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -21,14 +24,6 @@
 namespace nacre::app {
 
 namespace {
-
-std::string hms(double s) {
-  if (!(s >= 0) || s > 360000) return "--:--";
-  const long t = static_cast<long>(s + 0.5);
-  char b[32];
-  std::snprintf(b, sizeof b, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-  return b;
-}
 
 int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
   using clock = std::chrono::steady_clock;
@@ -119,10 +114,10 @@ int main(int argc, char* argv[]) {
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
 
-  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks, Monte Carlo)"};
+  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks by Monte Carlo; deformable bricks in time with a [dynamics] section)"};
   std::string deck_path;
   std::string out_override;
-  bool quiet = false, check_only = false;
+  bool quiet = false, check_only = false, critical = false;
   std::string restart;
   cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
   cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
@@ -130,6 +125,8 @@ int main(int argc, char* argv[]) {
   cli.add_flag("--check", check_only, "validate the deck and exit");
   cli.add_option("--restart", restart, "continue a run from its checkpoint.h5 (written at every dump)")
       ->check(CLI::ExistingFile);
+  cli.add_flag("--critical-step", critical,
+               "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
   cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
@@ -146,6 +143,10 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   if (!out_override.empty()) d.output.directory = out_override;
+  if (critical && !d.dynamics.enabled) {
+    std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
+    return 2;
+  }
   if (check_only) {
     std::cout << "nacre: " << deck_path << ": deck is valid\n";
     return 0;
@@ -153,7 +154,10 @@ int main(int argc, char* argv[]) {
   int kargc = static_cast<int>(kokkos_args.size());
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   try {
-    return run_deck(d, quiet, ::isatty(STDERR_FILENO) != 0, restart);
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    if (critical) return print_critical_step(d, quiet);
+    if (d.dynamics.enabled) return run_dynamics(d, quiet, tty, restart);
+    return run_deck(d, quiet, tty, restart);
   } catch (const std::exception& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";
     return 1;

@@ -6,6 +6,7 @@
 /// missing value, out-of-range or inconsistent value) throws DeckError carrying
 /// "file:line: key: what was expected" before any computation starts.
 #include <nacre/cohesive/law.hpp>
+#include <nacre/deck/dynamics.hpp>
 
 #include <cstdint>
 #include <stdexcept>
@@ -93,6 +94,7 @@ struct Deck {
   Load load;
   Solver solver;
   Output output;
+  Dynamics dynamics;  ///< enabled: the run is dynamic (Chapter 4), [solver] does not apply
   std::uint64_t seed = 1;
 };
 
