@@ -81,7 +81,7 @@ void read_dynamics(Section& top, const toml::table& root, Deck& d) {
   s.number("rate", {}, D.rate, non_negative, "a non-negative opening rate dD/dt in mm/s");
   std::string ramp = D.ramp == Dynamics::Ramp::smooth ? "smooth" : "linear";
   s.string("ramp", ramp, {"linear", "smooth"},
-           "\"linear\" (rate grows linearly over ramp_time) or \"smooth\" (cubic smoothstep)");
+           "\"linear\" (rate grows linearly over ramp_time) or \"smooth\" (rate ramps as (1 - cos(pi t / ramp_time)) / 2)");
   D.ramp = ramp == "smooth" ? Dynamics::Ramp::smooth : Dynamics::Ramp::linear;
   s.number("ramp_time", {}, D.ramp_time, non_negative, "a non-negative time in s");
   s.number("thermal_strain", {}, D.thermal_strain, [](double v) { return std::abs(v) < 0.1; },
