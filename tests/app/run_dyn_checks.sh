@@ -48,7 +48,7 @@ python3 "$src/tests/app/check_dyn_outputs.py" short
 # 3. an unstable step is caught
 h=$("$exe" "$deck" --critical-step -q)
 dt=$(python3 -c "print(4 * $h)")
-sed -e "s/^dt_fraction = .*/dt = $dt/" -e "s/^end_time = .*/end_time = $(python3 -c "print(400 * $dt)")/" \
+sed -e "s/^dt = .*/dt = $dt/" -e "s/^end_time = .*/end_time = $(python3 -c "print(400 * $dt)")/" \
     -e "s/^csv_interval = .*/csv_interval = 2/" -e "s/^dump_interval = .*/dump_interval = 4/" "$deck" > unstable.toml
 set +e
 "$exe" unstable.toml -o unstable -q 2> unstable.err
