@@ -180,7 +180,7 @@ Deck parse_table(const toml::table& root, const std::string& file) {
   o.reject_unknown({"directory", "dump_interval (DumpInter)", "hdf5", "charts", "progress"});
 
   // ---------------------------------------------------------------- dynamics (src/deck/dynamics.cpp)
-  detail::read_dynamics(top, root, d);
+  detail::read_dynamics(top, d);
 
   top.reject_unknown({"geometry", "mortar", "load", "solver", "random", "output", "dynamics"});
   return d;

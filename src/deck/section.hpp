@@ -161,6 +161,6 @@ inline const auto positive = [](double v) { return v > 0; };
 inline const auto non_negative = [](double v) { return v >= 0; };
 
 /// \brief Section readers living in their own files (one per section).
-void read_dynamics(Section& top, const toml::table& root, Deck& d);
+void read_dynamics(Section& top, Deck& d);
 
 }  // namespace nacre::deck::detail

@@ -1,9 +1,9 @@
-// The [dynamics] section reader: its presence selects the dynamic solver (Chapter 4). It also
-// rejects the Monte Carlo keys a dynamic run would silently ignore ([solver], the load-step keys
-// of [load], [output] DumpInter), so a deck never means something it does not do.
+// [dynamics]: its presence selects the dynamic solver (Chapter 4). The reader also rejects the
+// Monte Carlo keys a dynamic run would silently ignore ([solver], the load-step keys of [load],
+// [output] DumpInter), so a deck never means something it does not do.
 #include <nacre/deck/deck.hpp>
 
-#include "section.hpp"
+#include "../section.hpp"
 
 namespace nacre::deck::detail {
 
@@ -22,9 +22,10 @@ void reject_mc_keys(const Section& top, const toml::table& root, const char* nam
 
 }  // namespace
 
-void read_dynamics(Section& top, const toml::table& root, Deck& d) {
+void read_dynamics(Section& top, Deck& d) {
   Section s = top.sub("dynamics");
   if (!s.present()) return;
+  const toml::table& root = *top.table();
   auto& D = d.dynamics;
   D.enabled = true;
 
