@@ -69,6 +69,14 @@ std::string non_finite(const SeriesRow& r) {
   return "";
 }
 
+/// The first non-finite state value ("state array v[12]"), or "".
+std::string non_finite(const dyn::StateArrays& a) {
+  for (const auto& [k, v] : a)
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i])) return "state array " + k + "[" + std::to_string(i) + "]";
+  return "";
+}
+
 void run_charts(const std::filesystem::path& dir, std::ostream* log) {
   const char* env = std::getenv("NACRE_PLOT_SCRIPT");
   const std::filesystem::path mc_script = env ? env : NACRE_PLOT_SCRIPT;
@@ -274,7 +282,10 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       const dyn::Snapshot snap = sim.snapshot();
       if (auto q = first_non_finite(snap); !q.empty())
         return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-      writer.dump(step, snap, checkpoint());
+      DynCheckpoint c = checkpoint();
+      if (auto q = non_finite(c.state); !q.empty())
+        return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+      writer.dump(step, snap, c);
       last_flush = elapsed();
       if (log && !progress)
         *log << "  step " << step << "/" << total << ": t = " << r.time << " s, D = " << r.displacement
