@@ -97,9 +97,9 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
     const int o = iperm[i];
     hends(i, 0) = inv[f.a[o]], hends(i, 1) = inv[f.b[o]];
     hkind(i) = static_cast<std::uint8_t>(f.kind[o]);
-    const double v[SEG_COLS] = {f.ra0x[o], f.ra0y[o], f.ra1x[o], f.ra1y[o], f.rb0x[o], f.rb0y[o],
+    const double v[col(SegCol::count)] = {f.ra0x[o], f.ra0y[o], f.ra1x[o], f.ra1y[o], f.rb0x[o], f.rb0y[o],
                                 f.rb1x[o], f.rb1y[o], f.nx[o],   f.ny[o],   f.length[o]};
-    for (int c = 0; c < SEG_COLS; ++c) hseg(i, c) = v[c];
+    for (int c = 0; c < col(SegCol::count); ++c) hseg(i, c) = v[c];
   }
   m.iface_perm = iperm;
   // CSR in sweep order, and the predictor's reference energy phi0 (all interfaces at x1).
@@ -118,7 +118,7 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
       const int k = hends(i, side);
       hadj(fill[k]++) = i;
       const auto& law = m.law[hkind(i)];
-      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, LEN);
+      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, col(SegCol::length));
     }
   Kokkos::deep_copy(m.cx, hcx), Kokkos::deep_copy(m.cy, hcy), Kokkos::deep_copy(m.drive, hdrive);
   Kokkos::deep_copy(m.id, hid), Kokkos::deep_copy(m.ends, hends), Kokkos::deep_copy(m.seg, hseg);

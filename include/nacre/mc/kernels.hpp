@@ -41,7 +41,7 @@ struct InterfaceEvaluator {
     return cohesive::interface_gap(load_segment(seg, i), frame_of(pose, ends(i, 0)), frame_of(pose, ends(i, 1)));
   }
   KOKKOS_INLINE_FUNCTION double energy(int i) const {
-    return cohesive::gap_energy(law(i), quad, gap(i), seg(i, LEN));
+    return cohesive::gap_energy(law(i), quad, gap(i), seg(i, col(SegCol::length)));
   }
 };
 
@@ -85,7 +85,7 @@ int interface_state(const Model<typename ExecutionSpace::memory_space>& m,
       KOKKOS_LAMBDA(const int i, int& acc) {
         const auto& law = ev.law(i);
         const cohesive::Gap g = ev.gap(i);
-        if (energy.data()) energy(i) = cohesive::gap_energy(law, ev.quad, g, ev.seg(i, LEN));
+        if (energy.data()) energy(i) = cohesive::gap_energy(law, ev.quad, g, ev.seg(i, col(SegCol::length)));
         std::int8_t s = 0;
         if (cohesive::min_separation(ev.quad, g) >= law.x1 + law.x2) s = 2;
         else if (cohesive::max_separation(g) > law.x1) s = 1;

@@ -11,8 +11,12 @@
 
 namespace nacre::mc {
 
-/// Columns of Model::seg, one per Segment field.
-enum SegCol : int { RA0X, RA0Y, RA1X, RA1Y, RB0X, RB0Y, RB1X, RB1Y, NX, NY, LEN, SEG_COLS };
+/// Columns of Model::seg, one per Segment field. Scoped: short names such as nx or length must
+/// not leak into nacre::mc, where a second model (or a loop variable) may want them.
+enum class SegCol : int { ra0x, ra0y, ra1x, ra1y, rb0x, rb0y, rb1x, rb1y, nx, ny, length, count };
+
+/// \brief Column index of a SegCol (for View access: seg(i, col(SegCol::length))).
+KOKKOS_INLINE_FUNCTION constexpr int col(SegCol c) { return static_cast<int>(c); }
 
 template <class MemorySpace = MemSpace>
 struct Model {
@@ -38,7 +42,7 @@ struct Model {
   // brick by index, so an interface's 11 numbers should share two cache lines rather than sit
   // in 11 columns (LayoutLeft would coalesce only the rarely called loop over all interfaces).
   Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> ends;       ///< bricks a, b
-  Kokkos::View<double* [SEG_COLS], Kokkos::LayoutRight, MemorySpace> seg;
+  Kokkos::View<double* [col(SegCol::count)], Kokkos::LayoutRight, MemorySpace> seg;
   Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< 0 bed, 1 head (selects the law)
 
   cohesive::Law law[2];        ///< one law per joint kind, shared by all interfaces of the kind
@@ -65,9 +69,11 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>
 KOKKOS_INLINE_FUNCTION cohesive::Segment load_segment(const SegView& seg, int i) {
-  return cohesive::Segment{seg(i, RA0X), seg(i, RA0Y), seg(i, RA1X), seg(i, RA1Y),
-                           seg(i, RB0X), seg(i, RB0Y), seg(i, RB1X), seg(i, RB1Y),
-                           seg(i, NX),   seg(i, NY),   seg(i, LEN)};
+  using C = SegCol;
+  return cohesive::Segment{seg(i, col(C::ra0x)), seg(i, col(C::ra0y)), seg(i, col(C::ra1x)),
+                           seg(i, col(C::ra1y)), seg(i, col(C::rb0x)), seg(i, col(C::rb0y)),
+                           seg(i, col(C::rb1x)), seg(i, col(C::rb1y)), seg(i, col(C::nx)),
+                           seg(i, col(C::ny)),   seg(i, col(C::length))};
 }
 
 }  // namespace nacre::mc

@@ -1,0 +1,395 @@
+#pragma once
+/// \file
+/// \brief Device kernels of the explicit integrators (eq. 4.4, UE and BE share them): the
+/// cohesive interface operator (energy, forces, damage from one quadrature loop) and the
+/// integrator (initial_integrate / final_integrate; the interface force sits between them).
+///
+/// Why no atomics: the interface kernel writes the 8 nodal force components of each interface
+/// into its own row of `iforce`; final_integrate then gathers, per element, the rows of its
+/// interfaces from a CSR list in increasing interface order. Every sum has a fixed order, so
+/// the result is bit-identical for any thread count or backend schedule.
+///
+/// Why one quadrature loop: the cohesive law is integrated along the shared segment by n-point
+/// Gauss-Legendre (n = 4, Model::quad). The jump is linear along the segment (each side is a CST
+/// edge), so in the elastic range the density is quadratic (exact with 2 points) and the
+/// penetration penalty is degree 6 (exact with 4); where a branch point of the law falls inside
+/// the segment the density is C1 and the rule converges like n^-2 (tests/dyn measures it).
+/// Energy and force come from the same points, so force = -dE/dp holds to rounding.
+#include <nacre/core/deterministic_sum.hpp>
+#include <nacre/dyn/model.hpp>
+
+namespace nacre::dyn {
+
+struct ForceTag {};
+struct InitialTag {};
+struct FinalTag {};
+
+/// Column of the per-element accumulators.
+enum AccCol : int { kWork = 0, kDamp = 1, kPowPrev = 2, kDampPowPrev = 3, kReact = 4, kAccCols = 5 };
+
+template <class MemorySpace>
+using DofView = typename Model<MemorySpace>::Dof;
+template <class MemorySpace>
+using AccView = Kokkos::View<double* [kAccCols], Kokkos::LayoutLeft, MemorySpace>;
+template <class MemorySpace>
+using IforceView = Kokkos::View<double* [8], Kokkos::LayoutLeft, MemorySpace>;
+
+/// \brief Cohesive interfaces acting on the jump of the element displacements `u`.
+template <class MemorySpace>
+struct InterfaceOp {
+  Kokkos::View<const int* [2], Kokkos::LayoutLeft, MemorySpace> ielem;
+  Kokkos::View<const std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;
+  Kokkos::View<const double* [4], Kokkos::LayoutLeft, MemorySpace> ixi;
+  Kokkos::View<const double*, MemorySpace> inx, iny, ilen;
+  Kokkos::View<const std::uint8_t*, MemorySpace> ikind;
+  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> u;
+  IforceView<MemorySpace> out;
+  cohesive::Law law[kKinds];
+  cohesive::Quadrature quad;
+  double thickness;
+
+  InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
+      : ielem(m.ielem), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
+        u(u_), out(out_), quad(m.quad), thickness(m.thickness) {
+    for (int k = 0; k < kKinds; ++k) law[k] = m.law[k];
+  }
+
+  /// Nodal displacements of the two edges: q = (a0x a0y a1x a1y b0x b0y b1x b1y).
+  KOKKOS_INLINE_FUNCTION void load(int i, double q[8]) const {
+    const int ea = ielem(i, 0), eb = ielem(i, 1);
+    for (int k = 0; k < 4; ++k) {
+      const int e = k < 2 ? ea : eb, n = inode(i, k);
+      q[2 * k] = u(e, 2 * n);
+      q[2 * k + 1] = u(e, 2 * n + 1);
+    }
+  }
+
+  /// Jump (normal, tangential) at segment parameter s and the two sides' edge parameters.
+  KOKKOS_INLINE_FUNCTION void jump(int i, const double q[8], double s, double& dn, double& dt, double& xa,
+                                   double& xb) const {
+    xa = ixi(i, 0) + s * (ixi(i, 1) - ixi(i, 0));
+    xb = ixi(i, 2) + s * (ixi(i, 3) - ixi(i, 2));
+    const double dx = (1 - xb) * q[4] + xb * q[6] - (1 - xa) * q[0] - xa * q[2];
+    const double dy = (1 - xb) * q[5] + xb * q[7] - (1 - xa) * q[1] - xa * q[3];
+    const double nx = inx(i), ny = iny(i);
+    dn = dx * nx + dy * ny;
+    dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
+  }
+
+  /// Energy of interface i; with f != nullptr also the nodal forces -dE/dq (same points).
+  KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
+    double q[8];
+    load(i, q);
+    const cohesive::Law& m = law[ikind(i)];
+    const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
+    double e = 0;
+    if (f)
+      for (int k = 0; k < 8; ++k) f[k] = 0;
+    for (int p = 0; p < quad.n; ++p) {
+      double dn, dt, xa, xb;
+      jump(i, q, quad.s[p], dn, dt, xa, xb);
+      const double wl = quad.w[p] * lt;
+      e += wl * cohesive::energy_density(m, dn, dt);
+      if (f) {
+        double fn, ft;
+        cohesive::traction(m, dn, dt, fn, ft);
+        const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
+        f[0] += (1 - xa) * tx, f[1] += (1 - xa) * ty, f[2] += xa * tx, f[3] += xa * ty;
+        f[4] -= (1 - xb) * tx, f[5] -= (1 - xb) * ty, f[6] -= xb * tx, f[7] -= xb * ty;
+      }
+    }
+    return e;
+  }
+
+  KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate(i, nullptr); }
+
+  KOKKOS_INLINE_FUNCTION void operator()(ForceTag, int i) const {
+    double f[8];
+    integrate(i, f);
+    for (int k = 0; k < 8; ++k) out(i, k) = f[k];
+  }
+
+  /// Damage 0 (elastic) .. 1 (ruptured) = clamp((d_max - x1) / x2); state 0 elastic,
+  /// 1 beyond x1 somewhere, 2 ruptured at every quadrature point.
+  KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
+    double q[8];
+    load(i, q);
+    const cohesive::Law& m = law[ikind(i)];
+    double dmax = 0, dmin = 1e300;
+    for (int p = 0; p < quad.n; ++p) {
+      double dn, dt, xa, xb;
+      jump(i, q, quad.s[p], dn, dt, xa, xb);
+      const double d = Kokkos::sqrt(dn * dn + dt * dt);
+      dmax = Kokkos::max(dmax, d), dmin = Kokkos::min(dmin, d);
+    }
+    dmg = Kokkos::min(1.0, Kokkos::max(0.0, (dmax - m.x1) / m.x2));
+    state = dmin >= m.x1 + m.x2 ? 2 : (dmax > m.x1 ? 1 : 0);
+  }
+};
+
+/// \brief Velocity Verlet with velocity-dependent acceleration (eq. 4.4), per element.
+/// Driven elements follow u = D(t) * pattern, v = D'(t) * pattern, a = D''(t) * pattern and
+/// report the force needed to move them (reaction, external work).
+template <class MemorySpace>
+struct Integrator {
+  using CDof = Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace>;
+  using CMat = Kokkos::View<const double***, Kokkos::LayoutLeft, MemorySpace>;
+  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent;
+  Kokkos::View<const std::int8_t*, MemorySpace> drive;
+  Kokkos::View<const std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;
+  Kokkos::View<const double*, MemorySpace> cx, cy;
+  CMat K, Ainv;
+  CDof mass, theta, fp, node_x, node_y;
+  Kokkos::View<const double* [8], Kokkos::LayoutLeft, MemorySpace> iforce;
+  DofView<MemorySpace> u, v, a;
+  AccView<MemorySpace> acc;
+  int nd;
+  bool has_fp;
+  double h, alpha, beta, tension, bending, width;
+  double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
+
+  Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
+             const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const IforceView<MemorySpace>& f_)
+      : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), drive(m.drive), inode(m.inode),
+        cx(m.cx), cy(m.cy), K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x),
+        node_y(m.node_y), iforce(f_), u(u_), v(v_), a(a_), acc(acc_), nd(m.nd), has_fp(m.fp.extent(0) > 0),
+        h(m.h), alpha(m.alpha), beta(m.beta), tension(m.tension), bending(m.bending), width(m.width) {}
+
+  /// Prescribed displacement per unit opening of node j of element e: the rigid deck's pattern
+  /// u_y = side/2 [tension + bending (1 - x/W)] and the matching small rotation of the brick
+  /// about its centroid, u_x = side bending / (2 W) (y - cy): driven bricks move rigidly.
+  KOKKOS_INLINE_FUNCTION void pattern(int e, int t, int j, double& px, double& py) const {
+    const double side = drive(e);
+    const double x = cx(e) + node_x(t, j), ry = node_y(t, j);
+    py = 0.5 * side * (tension + bending * (1.0 - x / width));
+    px = 0.5 * side * bending / width * ry;
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(InitialTag, int e) const {
+    if (drive(e) == 0) {
+      for (int j = 0; j < nd; ++j) u(e, j) += h * v(e, j) + 0.5 * h * h * a(e, j);
+      return;
+    }
+    const int t = type(e), nn = type_nodes(t);
+    for (int j = 0; j < nn; ++j) {
+      double px, py;
+      pattern(e, t, j, px, py);
+      u(e, 2 * j) = D * px, u(e, 2 * j + 1) = D * py;
+      v(e, 2 * j) = Dd * px, v(e, 2 * j + 1) = Dd * py;
+      a(e, 2 * j) = Ddd * px, a(e, 2 * j + 1) = Ddd * py;
+    }
+  }
+
+  /// Interface forces on element e, gathered in a fixed order.
+  KOKKOS_INLINE_FUNCTION void gather(int e, double* fi) const {
+    for (int j = 0; j < nd; ++j) fi[j] = 0;
+    for (int k = goff(e); k < goff(e + 1); ++k) {
+      const int ent = gent(k), i = ent >> 1, side = ent & 1;
+      const int n0 = inode(i, 2 * side), n1 = inode(i, 2 * side + 1);
+      fi[2 * n0] += iforce(i, 4 * side), fi[2 * n0 + 1] += iforce(i, 4 * side + 1);
+      fi[2 * n1] += iforce(i, 4 * side + 2), fi[2 * n1 + 1] += iforce(i, 4 * side + 3);
+    }
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(FinalTag, int e) const {
+    const int t = type(e);
+    double x[kMaxDof], w[kMaxDof], f[kMaxDof], fi[kMaxDof];
+    gather(e, fi);
+    for (int j = 0; j < nd; ++j) f[j] = fi[j] + theta(t, j) + (has_fp ? fp(e, j) : 0.0);
+    if (drive(e) == 0) {
+      // w = v_n + h/2 a_n is the velocity at which C acts; u_{n+1} - u_n = h w.
+      double work = 0, pd = 0;
+      for (int j = 0; j < nd; ++j) {
+        x[j] = u(e, j);
+        w[j] = v(e, j) + 0.5 * h * a(e, j);
+        work += (f[j] - fi[j]) * w[j];
+      }
+      double r[kMaxDof];
+      for (int i = 0; i < nd; ++i) {
+        double ku = 0, kw = 0;
+        for (int j = 0; j < nd; ++j) {
+          const double k = K(t, i, j);
+          ku += k * x[j], kw += k * w[j];
+        }
+        const double cw = alpha * mass(t, i) * w[i] + beta * kw;
+        r[i] = f[i] - ku - cw;
+        pd += w[i] * cw;
+      }
+      for (int i = 0; i < nd; ++i) {
+        double an = 0;
+        for (int j = 0; j < nd; ++j) an += Ainv(t, i, j) * r[j];
+        v(e, i) += 0.5 * h * (a(e, i) + an);
+        a(e, i) = an;
+      }
+      acc(e, kWork) += h * work;  // constant prescribed forces and Theta: exact F . du
+      acc(e, kDamp) += h * pd;
+      return;
+    }
+    // Driven: the force the machine applies, M a + C v + K u - F_i - F_p - Theta.
+    double power = 0, pd = 0, react = 0;
+    for (int i = 0; i < nd; ++i) {
+      double ku = 0, kv = 0;
+      for (int j = 0; j < nd; ++j) {
+        const double k = K(t, i, j);
+        ku += k * u(e, j), kv += k * v(e, j);
+      }
+      const double vi = v(e, i);
+      const double cv = alpha * mass(t, i) * vi + beta * kv;
+      const double fr = mass(t, i) * a(e, i) + cv + ku - fi[i] - (f[i] - fi[i]);
+      power += (fr + f[i] - fi[i]) * vi;  // work of the machine and of the prescribed loads
+      pd += vi * cv;
+      if (i % 2 == 1) react += fr;
+    }
+    acc(e, kWork) += 0.5 * h * (acc(e, kPowPrev) + power);
+    acc(e, kPowPrev) = power;
+    acc(e, kDamp) += 0.5 * h * (acc(e, kDampPowPrev) + pd);
+    acc(e, kDampPowPrev) = pd;
+    acc(e, kReact) = drive(e) > 0 ? react : 0.0;
+  }
+};
+
+/// \brief 1/2 u^T K u of element e.
+template <class MemorySpace>
+struct StrainEnergy {
+  Kokkos::View<const int*, MemorySpace> type;
+  Kokkos::View<const double***, Kokkos::LayoutLeft, MemorySpace> K;
+  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> u;
+  int nd;
+  KOKKOS_INLINE_FUNCTION double operator()(int e) const {
+    const int t = type(e);
+    double s = 0;
+    for (int i = 0; i < nd; ++i) {
+      double ku = 0;
+      for (int j = 0; j < nd; ++j) ku += K(t, i, j) * u(e, j);
+      s += u(e, i) * ku;
+    }
+    return 0.5 * s;
+  }
+};
+
+/// \brief 1/2 v^T M v of element e (optionally free elements only), and, for the blow-up
+/// check, 0 * sum(u^2 + a^2): NaN if any displacement or acceleration is not finite.
+template <class MemorySpace>
+struct KineticEnergy {
+  Kokkos::View<const int*, MemorySpace> type;
+  Kokkos::View<const std::int8_t*, MemorySpace> drive;
+  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> mass, u, v, a;
+  int nd;
+  bool free_only, poison;
+  KOKKOS_INLINE_FUNCTION double operator()(int e) const {
+    const int t = type(e);
+    double s = 0, z = 0;
+    for (int j = 0; j < nd; ++j) {
+      s += mass(t, j) * v(e, j) * v(e, j);
+      if (poison) z += u(e, j) * u(e, j) + a(e, j) * a(e, j);
+    }
+    if (free_only && drive(e) != 0) s = 0;
+    return 0.5 * s + (poison ? 0.0 * z : 0.0);
+  }
+};
+
+// ---- launchers: every one takes the execution-space instance it runs on (free functions, so
+// CUDA's extended-lambda rules hold: no lambda inside a private member).
+
+template <class ExecutionSpace>
+using MemOf = typename ExecutionSpace::memory_space;
+
+/// \brief Driven elements to their prescribed u, v, a (it.D, it.Dd, it.Ddd); free ones untouched.
+template <class ExecutionSpace>
+void impose_drive(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
+  auto drive = it.drive;
+  Kokkos::parallel_for("nacre::dyn::impose_drive", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
+                       KOKKOS_LAMBDA(const int e) {
+                         if (drive(e) != 0) it(InitialTag{}, e);
+                       });
+}
+
+/// \brief One step's three phases: initial_integrate, interface force, final_integrate.
+template <class ExecutionSpace>
+void verlet_step(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it,
+                 const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface) {
+  {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::initial_integrate");
+    Kokkos::parallel_for("nacre::dyn::initial_integrate",
+                         Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem), it);
+  }
+  {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
+                         op);
+  }
+  {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
+    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag>(space, 0, n_elem),
+                         it);
+  }
+}
+
+/// \brief Interface forces only (into op.out), e.g. for finite-difference tests.
+template <class ExecutionSpace>
+void interface_forces(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
+  Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
+                       op);
+}
+
+/// \brief Sum of one accumulator column over the elements (deterministic).
+template <class ExecutionSpace>
+double column_sum(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws,
+                  const AccView<MemOf<ExecutionSpace>>& acc, int col, int n_elem) {
+  return deterministic_sum<ExecutionSpace>("nacre::dyn::sum_acc", ws, 0, n_elem,
+                                           KOKKOS_LAMBDA(const int e) { return acc(e, col); });
+}
+
+/// \brief Total cohesive energy (deterministic).
+template <class ExecutionSpace>
+double cohesive_energy(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws,
+                       const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
+  return deterministic_sum<ExecutionSpace>("nacre::dyn::cohesive_energy", ws, 0, n_iface,
+                                           KOKKOS_LAMBDA(const int i) { return op.energy(i); });
+}
+
+/// \brief Sum of a per-element term functor (strain or kinetic energy), deterministic.
+template <class ExecutionSpace, class Term>
+double element_sum(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term, int n_elem) {
+  return deterministic_sum<ExecutionSpace>("nacre::dyn::element_sum", ws, 0, n_elem, term);
+}
+
+/// \brief acc(e, kWork) = term(e) (the work of an impulsive start).
+template <class ExecutionSpace, class Term>
+void set_initial_work(const ExecutionSpace& space, const AccView<MemOf<ExecutionSpace>>& acc, const Term& term,
+                      int n_elem) {
+  Kokkos::parallel_for("nacre::dyn::initial_work", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
+                       KOKKOS_LAMBDA(const int e) { acc(e, kWork) = term(e); });
+}
+
+/// \brief Number of ruptured interfaces among [0, n) (integer reduction: exact).
+template <class ExecutionSpace>
+int count_ruptured(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
+  int c = 0;
+  Kokkos::parallel_reduce(
+      "nacre::dyn::count_ruptured", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+      KOKKOS_LAMBDA(const int i, int& acc) {
+        double d;
+        int st;
+        op.damage(i, d, st);
+        acc += st == 2;
+      },
+      c);
+  return c;
+}
+
+/// \brief Damage and state of interfaces [0, n).
+template <class ExecutionSpace>
+void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n,
+                      const Kokkos::View<double*, MemOf<ExecutionSpace>>& dmg,
+                      const Kokkos::View<int*, MemOf<ExecutionSpace>>& state) {
+  Kokkos::parallel_for("nacre::dyn::damage", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+                       KOKKOS_LAMBDA(const int i) {
+                         double d;
+                         int q;
+                         op.damage(i, d, q);
+                         dmg(i) = d, state(i) = q;
+                       });
+}
+
+}  // namespace nacre::dyn

@@ -1,0 +1,100 @@
+#pragma once
+/// \file
+/// \brief Device-resident deformable model (MODEL.md §5): element types, elements, interfaces.
+///
+/// One design for UE and BE: an "element" owns its nodes (UE: a fan triangle, 3 nodes; BE: a
+/// bolted brick, centre + n corners). Elements never share nodes, so every per-element operation
+/// (K p, C v, (M + h/2 C)^-1 r) is independent; the only coupling is the interface force, which
+/// acts on two nodes of an edge of each side. UE and BE differ only in what the builder puts in
+/// the tables (UE adds the stiff internal joints on the spokes as interfaces of kind 2).
+///
+/// Layout: per-element arrays are View<double**, LayoutLeft> [element][dof], element index
+/// fastest, so consecutive GPU threads (one element each) read consecutive addresses for every
+/// dof (coalesced); on a CPU a thread streams contiguous runs of each dof column. Element types
+/// are [type][row][col], LayoutLeft too: with sharing, threads of a warp read one or a few types
+/// (broadcast from cache); without sharing (one type per element), type index = element index
+/// and the same layout coalesces.
+#include <nacre/cohesive/law.hpp>
+#include <nacre/cohesive/quadrature.hpp>
+#include <nacre/core/types.hpp>
+#include <nacre/dyn/simulation.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nacre::dyn {
+
+/// Largest element: a bolted 7-gon (centre + 7 corners). Clipped rectangles have at most 6 sides.
+inline constexpr int kMaxNodes = 8;
+inline constexpr int kMaxDof = 2 * kMaxNodes;
+
+/// Interface kinds: the two mortar kinds of the geometry, then UE's stiff internal joints.
+enum IfaceKind : std::uint8_t { kBed = 0, kHead = 1, kInternal = 2, kKinds = 3 };
+
+template <class MemorySpace = MemSpace>
+struct Model {
+  static_assert(Kokkos::is_memory_space_v<MemorySpace>, "dyn::Model needs a Kokkos memory space");
+  using memory_space = MemorySpace;
+  using TypeMat = Kokkos::View<double***, Kokkos::LayoutLeft, MemorySpace>;  ///< [type][row][col]
+  using Dof = Kokkos::View<double**, Kokkos::LayoutLeft, MemorySpace>;       ///< [element|type][dof]
+
+  int n_elem = 0, nd = 0, n_types = 0, n_iface = 0, n_mortar = 0;
+
+  // ---- element types (shared matrices)
+  TypeMat K;       ///< stiffness
+  TypeMat Ainv;    ///< (M + h/2 C)^-1 = ((1 + h alpha/2) M + h beta/2 K)^-1
+  Dof mass;        ///< lumped mass per dof
+  Dof theta;       ///< thermal load Theta for the run's eigenstrain
+  Dof node_x, node_y;  ///< [type][node] node positions relative to the brick centroid
+  Kokkos::View<int*, MemorySpace> type_nodes;
+
+  // ---- elements
+  Kokkos::View<int*, MemorySpace> type;
+  Field<double, MemorySpace> cx, cy;   ///< reference centroid of the element's brick
+  Kokkos::View<std::int8_t*, MemorySpace> drive;  ///< -1 bottom, 0 free, +1 top (whole element prescribed)
+  Dof fp;          ///< prescribed nodal forces (extent 0 when none)
+  /// Gather list (CSR): the interface sides acting on element e are gent[goff[e] .. goff[e+1]),
+  /// each entry 2 * interface + side, in a fixed order (no atomics, same bits on any thread count).
+  Kokkos::View<int*, MemorySpace> goff, gent;
+
+  // ---- interfaces (first the geometry's bed/head interfaces in its order, then internal joints)
+  Kokkos::View<int* [2], Kokkos::LayoutLeft, MemorySpace> ielem;          ///< element of side a, b
+  Kokkos::View<std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;  ///< local nodes a0 a1 b0 b1
+  Kokkos::View<double* [4], Kokkos::LayoutLeft, MemorySpace> ixi;         ///< edge parameter of the segment ends a0 a1 b0 b1
+  Field<double, MemorySpace> inx, iny, ilen;
+  Kokkos::View<std::uint8_t*, MemorySpace> ikind;
+  cohesive::Law law[kKinds];
+  cohesive::Quadrature quad;
+
+  // ---- run constants
+  double h = 0, alpha = 0, beta = 0, thickness = 1, eps_th = 0;
+  double tension = 0, bending = 0, width = 1;  ///< load pattern
+  bool top_prescribed = true;                  ///< false when force_top loads the top instead
+  double brick_height = 0;                     ///< height of a whole brick (internal joints, docs)
+  double step_estimate = 0;  ///< 2 / sqrt(Gershgorin bound of M^-1 K_lin): a safe step, start of the bisection
+};
+
+/// \brief Host bookkeeping that maps the model back to bricks and triangles (outputs).
+struct HostMap {
+  std::vector<int> brick_elem;       ///< CSR: elements of brick b are [brick_elem[b], brick_elem[b+1])
+  std::vector<int> tri_elem, tri_brick;        ///< per output triangle: element, brick
+  std::vector<std::array<int, 3>> tri_local;   ///< per output triangle: local nodes in its element
+  std::vector<int> elem_brick, elem_type;
+  std::vector<int> type_nodes;
+  std::vector<double> type_x, type_y;          ///< [type * kMaxNodes + node]
+  std::vector<double> cx, cy;                  ///< per brick centroid
+};
+
+/// \brief Build the model of `p.method` for a specimen (host assembly, then upload).
+Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const deck::Mortar& mortar, HostMap& map);
+
+/// \brief Bytes held by the model's views.
+std::size_t model_bytes(const Model<>& m);
+
+/// \brief Height of a whole brick: the shortest edge among bricks of full area (rectangles of
+/// the running bond; sqrt(full area) when no whole brick exists).
+double whole_brick_height(const geometry::Specimen& s);
+
+}  // namespace nacre::dyn

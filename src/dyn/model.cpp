@@ -1,0 +1,360 @@
+// Builds the deformable model from the specimen: element types deduplicated by shape, elements,
+// bed/head interfaces located on one polygon edge of each brick, UE's internal joints, the gather
+// list, prescribed forces. Host assembly (Eigen), then one upload. See model.hpp for the layout.
+#include <nacre/dyn/element.hpp>
+#include <nacre/dyn/model.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace nacre::dyn {
+
+double whole_brick_height(const geometry::Specimen& s) {
+  double h = 0;
+  for (std::size_t b = 0; b < s.size(); ++b) {
+    if (std::abs(s.area[b] - s.full_brick_area) > 1e-9 * s.full_brick_area) continue;
+    for (int v = s.poly_offset[b]; v < s.poly_offset[b + 1]; ++v) {
+      const int w = v + 1 == s.poly_offset[b + 1] ? s.poly_offset[b] : v + 1;
+      const double l = std::hypot(s.vx[w] - s.vx[v], s.vy[w] - s.vy[v]);
+      if (l > 1e-12 && (h == 0 || l < h)) h = l;
+    }
+  }
+  return h > 0 ? h : std::sqrt(s.full_brick_area);
+}
+
+namespace {
+
+template <class V>
+V alloc(const std::string& label, std::size_t n0, std::size_t n1 = KOKKOS_IMPL_CTOR_DEFAULT_ARG,
+        std::size_t n2 = KOKKOS_IMPL_CTOR_DEFAULT_ARG) {
+  return V(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::" + label), n0, n1, n2);
+}
+
+// A side of an interface located on an element edge.
+struct Side {
+  int elem = -1;
+  int n0 = 0, n1 = 0;
+  double xi0 = 0, xi1 = 0;
+};
+
+}  // namespace
+
+Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const deck::Mortar& mortar, HostMap& map) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::build_model");
+  if (!(p.dt > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
+  if (!(p.youngs_modulus > 0) || !(p.density > 0) || !(p.thickness > 0) || !(p.poisson > -1 && p.poisson < 0.5))
+    throw std::invalid_argument("dyn: need E > 0, rho > 0, thickness > 0, -1 < nu < 0.5");
+  const bool ue = p.method == Method::ue;
+  const Material mat{p.youngs_modulus, p.poisson, p.density, p.thickness};
+  const int nb = static_cast<int>(s.size());
+  Model<> m;
+  m.h = p.dt, m.alpha = p.alpha_d, m.beta = p.beta_d, m.thickness = p.thickness, m.eps_th = p.thermal_strain;
+  m.tension = p.tension, m.bending = p.bending, m.width = s.width > 0 ? s.width : 1.0;
+  m.top_prescribed = p.force_top == 0.0;
+  m.brick_height = whole_brick_height(s);
+  m.quad = cohesive::gauss_legendre(4);
+  m.law[kBed] = mortar.bed;
+  m.law[kHead] = mortar.head;
+  // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),
+  // so they tie the triangles as in §4.4 and cannot rupture.
+  m.law[kInternal] = cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6};
+
+  // ---- elements and their types
+  const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300));
+  std::map<std::vector<long long>, int> type_of_shape;
+  std::vector<ElementMatrices> types;
+  map = HostMap{};
+  map.brick_elem.assign(1, 0);
+  map.cx = s.cx, map.cy = s.cy;
+  std::vector<std::vector<double>> poly_x(nb), poly_y(nb);
+  auto add_element = [&](int brick, const ElementMatrices& e) {
+    int t;
+    if (p.share_element_matrices) {
+      std::vector<long long> key{e.nodes};
+      for (int k = 0; k < e.nodes; ++k) key.push_back(std::llround(e.x[k] / tol)), key.push_back(std::llround(e.y[k] / tol));
+      auto [it, fresh] = type_of_shape.try_emplace(key, static_cast<int>(types.size()));
+      if (fresh) types.push_back(e);
+      t = it->second;
+    } else {
+      t = static_cast<int>(types.size());
+      types.push_back(e);
+    }
+    map.elem_brick.push_back(brick);
+    map.elem_type.push_back(t);
+  };
+  for (int b = 0; b < nb; ++b) {
+    const int n = s.vertex_count(b);
+    if (n + 1 > kMaxNodes)
+      throw std::runtime_error("dyn: brick " + std::to_string(b) + " has " + std::to_string(n) +
+                               " vertices; at most " + std::to_string(kMaxNodes - 1) + " supported");
+    for (int v = s.poly_offset[b]; v < s.poly_offset[b + 1]; ++v)
+      poly_x[b].push_back(s.vx[v] - s.cx[b]), poly_y[b].push_back(s.vy[v] - s.cy[b]);
+    if (ue) {
+      for (const auto& e : unbolted_brick(poly_x[b], poly_y[b], mat)) add_element(b, e);
+    } else {
+      add_element(b, bolted_brick(poly_x[b], poly_y[b], mat));
+    }
+    map.brick_elem.push_back(static_cast<int>(map.elem_brick.size()));
+    for (int i = 0; i < n; ++i) {
+      map.tri_brick.push_back(b);
+      if (ue) {
+        map.tri_elem.push_back(map.brick_elem[b] + i);
+        map.tri_local.push_back({0, 1, 2});
+      } else {
+        map.tri_elem.push_back(map.brick_elem[b]);
+        map.tri_local.push_back(fan_triangle(n, i));
+      }
+    }
+  }
+  const int ne = static_cast<int>(map.elem_brick.size()), nt = static_cast<int>(types.size());
+  int max_nodes = 0;
+  for (const auto& e : types) max_nodes = std::max(max_nodes, e.nodes);
+  const int nd = 2 * max_nodes;
+  m.n_elem = ne, m.nd = nd, m.n_types = nt;
+
+  // ---- type tables: K, (M + h/2 C)^-1, mass, Theta, node positions; element step estimate
+  m.K = alloc<Model<>::TypeMat>("K", nt, nd, nd);
+  m.Ainv = alloc<Model<>::TypeMat>("Ainv", nt, nd, nd);
+  m.mass = alloc<Model<>::Dof>("mass", nt, nd);
+  m.theta = alloc<Model<>::Dof>("theta", nt, nd);
+  m.node_x = alloc<Model<>::Dof>("node_x", nt, kMaxNodes);
+  m.node_y = alloc<Model<>::Dof>("node_y", nt, kMaxNodes);
+  m.type_nodes = alloc<Kokkos::View<int*>>("type_nodes", nt);
+  {
+    auto K = Kokkos::create_mirror_view(m.K);
+    auto A = Kokkos::create_mirror_view(m.Ainv);
+    auto M = Kokkos::create_mirror_view(m.mass);
+    auto T = Kokkos::create_mirror_view(m.theta);
+    auto X = Kokkos::create_mirror_view(m.node_x);
+    auto Y = Kokkos::create_mirror_view(m.node_y);
+    auto N = Kokkos::create_mirror_view(m.type_nodes);
+    Kokkos::deep_copy(K, 0.0), Kokkos::deep_copy(A, 0.0), Kokkos::deep_copy(M, 0.0);
+    Kokkos::deep_copy(T, 0.0), Kokkos::deep_copy(X, 0.0), Kokkos::deep_copy(Y, 0.0);
+    map.type_nodes.resize(nt);
+    map.type_x.assign(static_cast<std::size_t>(nt) * kMaxNodes, 0.0);
+    map.type_y.assign(static_cast<std::size_t>(nt) * kMaxNodes, 0.0);
+    for (int t = 0; t < nt; ++t) {
+      const auto& e = types[t];
+      const int d = 2 * e.nodes;
+      const Eigen::MatrixXd Amat = (1.0 + 0.5 * p.dt * p.alpha_d) * Eigen::MatrixXd(e.mass.asDiagonal()) +
+                                   (0.5 * p.dt * p.beta_d) * e.K;
+      const Eigen::MatrixXd Ai = Amat.ldlt().solve(Eigen::MatrixXd::Identity(d, d));
+      for (int i = 0; i < d; ++i) {
+        M(t, i) = e.mass(i);
+        T(t, i) = p.thermal_strain * e.theta_unit(i);
+        for (int j = 0; j < d; ++j) K(t, i, j) = e.K(i, j), A(t, i, j) = Ai(i, j);
+      }
+      N(t) = e.nodes;
+      map.type_nodes[t] = e.nodes;
+      for (int k = 0; k < e.nodes; ++k) {
+        X(t, k) = e.x[k], Y(t, k) = e.y[k];
+        map.type_x[t * kMaxNodes + k] = e.x[k], map.type_y[t * kMaxNodes + k] = e.y[k];
+      }
+    }
+    Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M);
+    Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
+    Kokkos::deep_copy(m.type_nodes, N);
+  }
+
+  // ---- per element: type, centroid, drive
+  m.type = alloc<Kokkos::View<int*>>("type", ne);
+  m.cx = alloc<Field<double>>("cx", ne);
+  m.cy = alloc<Field<double>>("cy", ne);
+  m.drive = alloc<Kokkos::View<std::int8_t*>>("drive", ne);
+  {
+    auto T = Kokkos::create_mirror_view(m.type);
+    auto X = Kokkos::create_mirror_view(m.cx);
+    auto Y = Kokkos::create_mirror_view(m.cy);
+    auto D = Kokkos::create_mirror_view(m.drive);
+    for (int e = 0; e < ne; ++e) {
+      const int b = map.elem_brick[e];
+      T(e) = map.elem_type[e], X(e) = s.cx[b], Y(e) = s.cy[b];
+      auto dv = static_cast<std::int8_t>(s.drive[b]);
+      if (dv > 0 && !m.top_prescribed) dv = 0;
+      D(e) = dv;
+    }
+    Kokkos::deep_copy(m.type, T), Kokkos::deep_copy(m.cx, X), Kokkos::deep_copy(m.cy, Y), Kokkos::deep_copy(m.drive, D);
+  }
+
+  // ---- interfaces: locate each segment on one polygon edge of each brick
+  auto locate = [&](int b, double x0, double y0, double x1, double y1, int iface) {
+    const auto& px = poly_x[b];
+    const auto& py = poly_y[b];
+    const int n = static_cast<int>(px.size());
+    int best = -1;
+    double best_err = 1e300, bxi0 = 0, bxi1 = 0;
+    for (int k = 0; k < n; ++k) {
+      const int k1 = (k + 1) % n;
+      const double ex = px[k1] - px[k], ey = py[k1] - py[k], l2 = ex * ex + ey * ey;
+      if (l2 <= 0) continue;
+      const double l = std::sqrt(l2);
+      const double xi0 = ((x0 - px[k]) * ex + (y0 - py[k]) * ey) / l2;
+      const double xi1 = ((x1 - px[k]) * ex + (y1 - py[k]) * ey) / l2;
+      const double d0 = std::abs((x0 - px[k]) * ey - (y0 - py[k]) * ex) / l;
+      const double d1 = std::abs((x1 - px[k]) * ey - (y1 - py[k]) * ex) / l;
+      const double out = std::max({0.0, -xi0, -xi1, xi0 - 1, xi1 - 1}) * l;
+      const double err = d0 + d1 + out;
+      if (err < best_err) best_err = err, best = k, bxi0 = xi0, bxi1 = xi1;
+    }
+    if (best < 0 || best_err > 1e-6 * std::sqrt(s.full_brick_area))
+      throw std::runtime_error("dyn: interface " + std::to_string(iface) + " does not lie on an edge of brick " +
+                               std::to_string(b));
+    Side sd;
+    sd.xi0 = std::clamp(bxi0, 0.0, 1.0), sd.xi1 = std::clamp(bxi1, 0.0, 1.0);
+    if (ue) {
+      sd.elem = map.brick_elem[b] + best, sd.n0 = 1, sd.n1 = 2;
+    } else {
+      sd.elem = map.brick_elem[b], sd.n0 = 1 + best, sd.n1 = 1 + (best + 1) % n;
+    }
+    return sd;
+  };
+  struct Rec {
+    Side a, b;
+    double nx, ny, len;
+    std::uint8_t kind;
+  };
+  std::vector<Rec> rec;
+  rec.reserve(f.size() + (ue ? s.vx.size() : 0));
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    Rec r;
+    r.a = locate(f.a[i], f.ra0x[i], f.ra0y[i], f.ra1x[i], f.ra1y[i], static_cast<int>(i));
+    r.b = locate(f.b[i], f.rb0x[i], f.rb0y[i], f.rb1x[i], f.rb1y[i], static_cast<int>(i));
+    r.nx = f.nx[i], r.ny = f.ny[i], r.len = f.length[i];
+    r.kind = f.kind[i] == geometry::JointKind::bed ? kBed : kHead;
+    rec.push_back(r);
+  }
+  m.n_mortar = static_cast<int>(rec.size());
+  if (ue) {
+    // spoke j (centre -> corner j) is shared by triangle j-1 (its nodes 0, 2) and triangle j
+    // (nodes 0, 1); triangle j-1 lies clockwise of the spoke, so the normal from a into b is the
+    // spoke direction turned counter-clockwise.
+    for (int b = 0; b < nb; ++b) {
+      const int n = static_cast<int>(poly_x[b].size());
+      for (int j = 0; j < n; ++j) {
+        Rec r;
+        const double l = std::hypot(poly_x[b][j], poly_y[b][j]);
+        r.a = Side{map.brick_elem[b] + (j + n - 1) % n, 0, 2, 0.0, 1.0};
+        r.b = Side{map.brick_elem[b] + j, 0, 1, 0.0, 1.0};
+        r.nx = -poly_y[b][j] / l, r.ny = poly_x[b][j] / l, r.len = l;
+        r.kind = kInternal;
+        rec.push_back(r);
+      }
+    }
+  }
+  const int ni = static_cast<int>(rec.size());
+  m.n_iface = ni;
+  m.ielem = alloc<decltype(m.ielem)>("ielem", ni);
+  m.inode = alloc<decltype(m.inode)>("inode", ni);
+  m.ixi = alloc<decltype(m.ixi)>("ixi", ni);
+  m.inx = alloc<Field<double>>("inx", ni);
+  m.iny = alloc<Field<double>>("iny", ni);
+  m.ilen = alloc<Field<double>>("ilen", ni);
+  m.ikind = alloc<decltype(m.ikind)>("ikind", ni);
+  std::vector<int> goff(ne + 1, 0);
+  {
+    auto E = Kokkos::create_mirror_view(m.ielem);
+    auto Nn = Kokkos::create_mirror_view(m.inode);
+    auto XI = Kokkos::create_mirror_view(m.ixi);
+    auto NX = Kokkos::create_mirror_view(m.inx);
+    auto NY = Kokkos::create_mirror_view(m.iny);
+    auto L = Kokkos::create_mirror_view(m.ilen);
+    auto KK = Kokkos::create_mirror_view(m.ikind);
+    for (int i = 0; i < ni; ++i) {
+      const auto& r = rec[i];
+      E(i, 0) = r.a.elem, E(i, 1) = r.b.elem;
+      Nn(i, 0) = static_cast<std::int8_t>(r.a.n0), Nn(i, 1) = static_cast<std::int8_t>(r.a.n1);
+      Nn(i, 2) = static_cast<std::int8_t>(r.b.n0), Nn(i, 3) = static_cast<std::int8_t>(r.b.n1);
+      XI(i, 0) = r.a.xi0, XI(i, 1) = r.a.xi1, XI(i, 2) = r.b.xi0, XI(i, 3) = r.b.xi1;
+      NX(i) = r.nx, NY(i) = r.ny, L(i) = r.len, KK(i) = r.kind;
+      ++goff[r.a.elem + 1], ++goff[r.b.elem + 1];
+    }
+    Kokkos::deep_copy(m.ielem, E), Kokkos::deep_copy(m.inode, Nn), Kokkos::deep_copy(m.ixi, XI);
+    Kokkos::deep_copy(m.inx, NX), Kokkos::deep_copy(m.iny, NY), Kokkos::deep_copy(m.ilen, L);
+    Kokkos::deep_copy(m.ikind, KK);
+  }
+  // Step estimate: Gershgorin bound on the eigenvalues of M^-1 K_lin, K_lin = element
+  // stiffness + elastic interface stiffness k L t int N N^T ds (same in x and y). Every
+  // eigenvalue lies below max_i sum_j |K_ij| / m_i, so 2 / sqrt(that) is a safe (low) step:
+  // a start for critical_step's bisection, never the answer.
+  {
+    std::vector<double> row(static_cast<std::size_t>(ne) * nd, 0.0);
+    for (int e = 0; e < ne; ++e) {
+      const auto& T = types[map.elem_type[e]];
+      for (int i = 0; i < 2 * T.nodes; ++i) row[e * nd + i] = T.K.row(i).cwiseAbs().sum();
+    }
+    const auto q = cohesive::gauss_legendre(2);  // N N^T is quadratic in s: exact
+    for (const auto& r : rec) {
+      const double klt = m.law[r.kind].k * r.len * p.thickness;
+      int el[4] = {r.a.elem, r.a.elem, r.b.elem, r.b.elem}, nn[4] = {r.a.n0, r.a.n1, r.b.n0, r.b.n1};
+      double c[4][4] = {};
+      for (int g = 0; g < q.n; ++g) {
+        const double xa = r.a.xi0 + q.s[g] * (r.a.xi1 - r.a.xi0), xb = r.b.xi0 + q.s[g] * (r.b.xi1 - r.b.xi0);
+        const double N[4] = {-(1 - xa), -xa, 1 - xb, xb};
+        for (int i = 0; i < 4; ++i)
+          for (int j = 0; j < 4; ++j) c[i][j] += q.w[g] * klt * N[i] * N[j];
+      }
+      for (int i = 0; i < 4; ++i) {
+        double sum = 0;
+        for (int j = 0; j < 4; ++j) sum += std::abs(c[i][j]);
+        row[el[i] * nd + 2 * nn[i]] += sum, row[el[i] * nd + 2 * nn[i] + 1] += sum;
+      }
+    }
+    double omega2 = 0;
+    for (int e = 0; e < ne; ++e) {
+      if (s.drive[map.elem_brick[e]] != geometry::Drive::free && !(s.drive[map.elem_brick[e]] == geometry::Drive::top && !m.top_prescribed)) continue;
+      const auto& T = types[map.elem_type[e]];
+      for (int i = 0; i < 2 * T.nodes; ++i) omega2 = std::max(omega2, row[e * nd + i] / T.mass(i));
+    }
+    m.step_estimate = omega2 > 0 ? 2.0 / std::sqrt(omega2) : p.dt;
+  }
+
+  // gather list: entries of an element in increasing interface order (fixed summation order)
+  for (int e = 0; e < ne; ++e) goff[e + 1] += goff[e];
+  {
+    m.goff = alloc<Kokkos::View<int*>>("goff", ne + 1);
+    m.gent = alloc<Kokkos::View<int*>>("gent", std::max(goff[ne], 1));
+    auto O = Kokkos::create_mirror_view(m.goff);
+    auto G = Kokkos::create_mirror_view(m.gent);
+    std::vector<int> fill(goff.begin(), goff.end() - 1);
+    for (int i = 0; i < ni; ++i) G(fill[rec[i].a.elem]++) = 2 * i, G(fill[rec[i].b.elem]++) = 2 * i + 1;
+    for (int e = 0; e <= ne; ++e) O(e) = goff[e];
+    Kokkos::deep_copy(m.goff, O), Kokkos::deep_copy(m.gent, G);
+  }
+
+  // ---- prescribed force on the top edge (edges of the polygons lying on y = height)
+  if (p.force_top != 0.0) {
+    m.fp = alloc<Model<>::Dof>("fp", ne, nd);
+    auto F = Kokkos::create_mirror_view(m.fp);
+    Kokkos::deep_copy(F, 0.0);
+    const double ytol = 1e-9 * std::max(s.width, s.height);
+    for (int b = 0; b < nb; ++b) {
+      const int n = s.vertex_count(b), o = s.poly_offset[b];
+      for (int k = 0; k < n; ++k) {
+        const int k1 = (k + 1) % n;
+        if (std::abs(s.vy[o + k] - s.height) > ytol || std::abs(s.vy[o + k1] - s.height) > ytol) continue;
+        const double half = 0.5 * p.force_top * std::abs(s.vx[o + k1] - s.vx[o + k]);
+        int e, n0, n1;
+        if (ue) e = map.brick_elem[b] + k, n0 = 1, n1 = 2;
+        else e = map.brick_elem[b], n0 = 1 + k, n1 = 1 + k1;
+        F(e, 2 * n0 + 1) += half, F(e, 2 * n1 + 1) += half;
+      }
+    }
+    Kokkos::deep_copy(m.fp, F);
+  }
+  return m;
+}
+
+std::size_t model_bytes(const Model<>& m) {
+  std::size_t b = 0;
+  auto add = [&](const auto& v) { b += v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+  add(m.K), add(m.Ainv), add(m.mass), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
+  add(m.type), add(m.cx), add(m.cy), add(m.drive), add(m.fp), add(m.goff), add(m.gent);
+  add(m.ielem), add(m.inode), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);
+  return b;
+}
+
+}  // namespace nacre::dyn

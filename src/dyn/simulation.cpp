@@ -1,0 +1,392 @@
+// The dynamic solver behind include/nacre/dyn/simulation.hpp: owns the model and the state,
+// runs initial_integrate / interface force / final_integrate per step, keeps the energy books,
+// and catches blow-ups.
+//
+// Blow-up criterion (advance, critical_step): after every kCheckEvery steps (and after every
+// step while locating a failure) the state is unstable when any displacement, velocity or
+// acceleration is not finite, or when the kinetic energy of the free elements exceeds
+//   10 * (|external work| + |E_ref|) + 1e-20 N mm,
+// E_ref being the mechanical energy at the start (0 from rest, or at restore_state). A stable
+// run can never reach that: its kinetic energy is bounded by the work put in plus the initial
+// energy (damping only removes energy). An unstable explicit step grows its highest mode by a
+// factor > 1 every step, so the bound is crossed within a few dozen steps of the onset. On
+// failure the chunk is replayed step by step from a copy, so the state is left at the last good
+// step (the run is deterministic, the replay takes the same path).
+#include <nacre/dyn/element.hpp>
+#include <nacre/dyn/kernels.hpp>
+#include <nacre/dyn/model.hpp>
+#include <nacre/dyn/simulation.hpp>
+
+#include "load.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace nacre::dyn {
+
+namespace {
+constexpr int kCheckEvery = 32;
+constexpr double kBlowUpFactor = 10.0;
+constexpr double kTinyEnergy = 1e-20;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Mem = Exec::memory_space;
+}  // namespace
+
+struct Simulation::Impl {
+  Params p;
+  Model<> m;
+  HostMap map;
+  std::size_t n_bricks = 0;
+  DofView<Mem> u, v, a, u0, v0, a0;
+  AccView<Mem> acc, acc0;
+  IforceView<Mem> iforce;
+  SumWorkspace<Mem> ws;
+  long step = 0;
+  double e_ref = 0;
+  std::string why;
+
+  template <class V>
+  static V make(const std::string& l, std::size_t n0, std::size_t n1 = KOKKOS_IMPL_CTOR_DEFAULT_ARG) {
+    return V(Kokkos::view_alloc("nacre::dyn::" + l), n0, n1);
+  }
+
+  void allocate() {
+    const int ne = m.n_elem, nd = m.nd;
+    u = make<DofView<Mem>>("u", ne, nd), v = make<DofView<Mem>>("v", ne, nd), a = make<DofView<Mem>>("a", ne, nd);
+    u0 = make<DofView<Mem>>("u0", ne, nd), v0 = make<DofView<Mem>>("v0", ne, nd), a0 = make<DofView<Mem>>("a0", ne, nd);
+    acc = make<AccView<Mem>>("acc", ne), acc0 = make<AccView<Mem>>("acc0", ne);
+    iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
+    ws.reserve(std::max(ne, m.n_iface));
+  }
+
+  [[nodiscard]] double time_at(long n) const { return static_cast<double>(n) * p.dt; }
+
+  Integrator<Mem> integrator() const { return Integrator<Mem>(m, u, v, a, acc, iforce); }
+
+  /// Driven elements at their prescribed values for time t (no step taken).
+  void impose(const Exec& space, double t) {
+    auto it = integrator();
+    const Opening o = opening(p, t);
+    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    impose_drive(space, it, m.n_elem);
+    space.fence();
+  }
+
+  void step_once(const Exec& space) {
+    const Opening o = opening(p, time_at(step + 1));
+    auto it = integrator();
+    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
+    ++step;
+  }
+
+  void save_copy(const Exec& space) {
+    Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
+    Kokkos::deep_copy(space, acc0, acc);
+  }
+  void load_copy(const Exec& space) {
+    Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
+    Kokkos::deep_copy(space, acc, acc0);
+  }
+
+  double sum_acc(int col) { return column_sum(Exec{}, ws, acc, col, m.n_elem); }
+  double kinetic(bool free_only, bool poison) {
+    return element_sum(Exec{}, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
+                       m.n_elem);
+  }
+  double strain() { return element_sum(Exec{}, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
+  double cohesive() { return cohesive_energy(Exec{}, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
+
+  /// True when the state is finite and below the kinetic-energy bound; else fills `why`.
+  bool healthy() {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::check");
+    const double ke = kinetic(true, true);
+    const double w = sum_acc(kWork);
+    const double bound = kBlowUpFactor * (std::abs(w) + std::abs(e_ref)) + kTinyEnergy;
+    std::ostringstream o;
+    o.precision(6);
+    if (!std::isfinite(ke) || !std::isfinite(w)) {
+      o << "step " << step << " (t = " << time_at(step) << " s): non-finite "
+        << (std::isfinite(ke) ? "external work" : "displacement, velocity or acceleration");
+    } else if (ke > bound) {
+      o << "step " << step << " (t = " << time_at(step) << " s): kinetic energy " << ke
+        << " N mm exceeds the bound 10 (|external work| + |E_ref|) = " << bound << " N mm";
+    } else {
+      return true;
+    }
+    why = o.str();
+    return false;
+  }
+};
+
+Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                       const deck::Mortar& mortar)
+    : impl_(std::make_unique<Impl>()) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
+  auto& I = *impl_;
+  I.p = p;
+  I.n_bricks = s.size();
+  I.m = build_model(p, s, f, mortar, I.map);
+  I.allocate();
+  Exec space;
+  I.impose(space, 0.0);
+  // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
+  // kinetic energy is counted as work done by the machine, so the balance starts closed.
+  set_initial_work(space, I.acc, KineticEnergy<Mem>{I.m.type, I.m.drive, I.m.mass, I.u, I.v, I.a, I.m.nd, false, false},
+                   I.m.n_elem);
+  space.fence();
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
+  auto& I = *impl_;
+  long done = 0;
+  while (done < n) {
+    const long chunk = std::min<long>(kCheckEvery, n - done);
+    I.save_copy(space);
+    const long start = I.step;
+    for (long k = 0; k < chunk; ++k) I.step_once(space);
+    space.fence();
+    if (!I.healthy()) {
+      // replay the chunk step by step to stop at the last good step
+      I.load_copy(space);
+      I.step = start;
+      for (long k = 0; k < chunk; ++k) {
+        I.save_copy(space);
+        I.step_once(space);
+        space.fence();
+        if (!I.healthy()) {
+          I.load_copy(space);
+          --I.step;
+          space.fence();
+          return false;
+        }
+      }
+      // (the replay found no failure: impossible for a deterministic run; report the chunk)
+      I.why = "blow-up at the end of a step chunk that the replay did not reproduce";
+      return false;
+    }
+    done += chunk;
+  }
+  return true;
+}
+
+const std::string& Simulation::why() const { return impl_->why; }
+double Simulation::time() const { return impl_->time_at(impl_->step); }
+long Simulation::steps() const { return impl_->step; }
+double Simulation::displacement() const { return opening(impl_->p, time()).D; }
+
+Energies Simulation::energies() const {
+  auto& I = *impl_;
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::energies");
+  Energies e;
+  e.strain = I.strain();
+  e.kinetic = I.kinetic(false, false);
+  e.cohesive = I.cohesive();
+  e.damping_dissipated = I.sum_acc(kDamp);
+  e.external_work = I.sum_acc(kWork);
+  const double scale = std::max({std::abs(e.strain), std::abs(e.kinetic), std::abs(e.cohesive),
+                                 std::abs(e.damping_dissipated), std::abs(e.external_work)});
+  const double res = e.external_work - (e.strain + e.kinetic + e.cohesive + e.damping_dissipated);
+  e.balance_residual = scale > 0 ? res / scale : 0.0;
+  return e;
+}
+
+double Simulation::reaction() const { return impl_->sum_acc(kReact); }
+
+int Simulation::ruptured() const {
+  auto& I = *impl_;
+  return count_ruptured(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+}
+
+Snapshot Simulation::snapshot() const {
+  auto& I = *impl_;
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::snapshot");
+  Snapshot s;
+  s.time = time();
+  s.displacement = displacement();
+  auto hu = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, I.u);
+  auto hv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, I.v);
+  const auto& M = I.map;
+  const int ne = I.m.n_elem;
+  std::vector<int> node0(ne + 1, 0);
+  for (int e = 0; e < ne; ++e) node0[e + 1] = node0[e] + M.type_nodes[M.elem_type[e]];
+  const int nn = node0[ne];
+  s.node_x.resize(nn), s.node_y.resize(nn), s.ux.resize(nn), s.uy.resize(nn), s.vx.resize(nn), s.vy.resize(nn);
+  for (int e = 0; e < ne; ++e) {
+    const int t = M.elem_type[e], b = M.elem_brick[e];
+    for (int j = 0; j < M.type_nodes[t]; ++j) {
+      const int k = node0[e] + j;
+      s.node_x[k] = M.cx[b] + M.type_x[t * kMaxNodes + j];
+      s.node_y[k] = M.cy[b] + M.type_y[t * kMaxNodes + j];
+      s.ux[k] = hu(e, 2 * j), s.uy[k] = hu(e, 2 * j + 1), s.vx[k] = hv(e, 2 * j), s.vy[k] = hv(e, 2 * j + 1);
+    }
+  }
+  const std::size_t ntri = M.tri_elem.size();
+  s.tri.resize(3 * ntri), s.tri_brick.resize(ntri);
+  s.tri_sxx.resize(ntri), s.tri_syy.resize(ntri), s.tri_sxy.resize(ntri);
+  s.brick_syy.assign(I.n_bricks, 0.0);
+  std::vector<double> barea(I.n_bricks, 0.0);
+  const Eigen::Matrix3d D = plane_stress(I.p.youngs_modulus, I.p.poisson);
+  for (std::size_t k = 0; k < ntri; ++k) {
+    const int e = M.tri_elem[k], t = M.elem_type[e], b = M.tri_brick[k];
+    std::array<double, 3> x{}, y{};
+    double ue[6];
+    for (int c = 0; c < 3; ++c) {
+      const int j = M.tri_local[k][c];
+      s.tri[3 * k + c] = node0[e] + j;
+      x[c] = M.type_x[t * kMaxNodes + j], y[c] = M.type_y[t * kMaxNodes + j];
+      ue[2 * c] = hu(e, 2 * j), ue[2 * c + 1] = hu(e, 2 * j + 1);
+    }
+    const Cst c = cst(x, y);
+    const Eigen::Vector3d sig = cst_stress(c, D, ue, I.p.thermal_strain);
+    s.tri_brick[k] = b;
+    s.tri_sxx[k] = sig(0), s.tri_syy[k] = sig(1), s.tri_sxy[k] = sig(2);
+    s.brick_syy[b] += sig(1) * c.area, barea[b] += c.area;
+  }
+  for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
+  // interface damage (bed/head only)
+  const int nm = I.m.n_mortar;
+  Kokkos::View<double*> dmg("nacre::dyn::damage", std::max(nm, 1));
+  Kokkos::View<int*> st("nacre::dyn::damage_state", std::max(nm, 1));
+  interface_damage(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
+  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
+  auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
+  s.iface_damage.assign(hd.data(), hd.data() + nm);
+  s.iface_state.assign(hs.data(), hs.data() + nm);
+  return s;
+}
+
+namespace {
+template <class V>
+std::vector<double> to_vector(const V& d) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, d);
+  return std::vector<double>(h.data(), h.data() + h.span());
+}
+template <class V>
+void from_vector(const V& d, const std::vector<double>& x, const char* name) {
+  auto h = Kokkos::create_mirror_view(d);
+  if (x.size() != h.span())
+    throw std::runtime_error(std::string("dyn::restore_state: array '") + name + "' has " + std::to_string(x.size()) +
+                             " values, the model needs " + std::to_string(h.span()));
+  std::copy(x.begin(), x.end(), h.data());
+  Kokkos::deep_copy(d, h);
+}
+}  // namespace
+
+StateArrays Simulation::save_state() const {
+  auto& I = *impl_;
+  StateArrays s;
+  s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
+  s["clock"] = {static_cast<double>(I.step), I.p.dt, I.e_ref};
+  s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
+                static_cast<double>(I.m.n_iface)};
+  return s;
+}
+
+void Simulation::restore_state(const StateArrays& a) {
+  auto& I = *impl_;
+  for (const char* k : {"u", "v", "a", "acc", "clock", "shape"})
+    if (!a.count(k)) throw std::runtime_error(std::string("dyn::restore_state: array '") + k + "' missing");
+  const auto& shape = a.at("shape");
+  if (shape.size() != 4 || shape[0] != I.m.n_elem || shape[1] != I.m.nd ||
+      shape[2] != static_cast<double>(I.p.method) || shape[3] != I.m.n_iface)
+    throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
+  const auto& clock = a.at("clock");
+  if (clock.size() != 3) throw std::runtime_error("dyn::restore_state: 'clock' needs 3 values");
+  if (clock[1] != I.p.dt)
+    throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
+                             " s, this run has dt = " + std::to_string(I.p.dt) + " s");
+  from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
+  from_vector(I.acc, a.at("acc"), "acc");
+  I.step = static_cast<long>(clock[0]);
+  // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
+  // then the mechanical energy not accounted for by work and dissipation becomes the reference.
+  const double emech = I.strain() + I.kinetic(false, false) + I.cohesive();
+  const double w = I.sum_acc(kWork), dd = I.sum_acc(kDamp);
+  const double unaccounted = emech + dd - w;
+  I.e_ref = clock[2];
+  if (std::abs(unaccounted) > 1e-3 * std::max({emech, std::abs(w), kTinyEnergy}))
+    I.e_ref = std::max(std::abs(clock[2]), std::abs(unaccounted));
+  I.why.clear();
+}
+
+std::size_t Simulation::bytes() const {
+  auto& I = *impl_;
+  std::size_t b = model_bytes(I.m);
+  for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
+  b += (I.acc.span() + I.acc0.span() + I.iforce.span()) * sizeof(double);
+  return b;
+}
+int Simulation::element_types() const { return impl_->m.n_types; }
+std::size_t Simulation::bricks() const { return impl_->n_bricks; }
+
+double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                     const deck::Mortar& mortar, long steps, double rtol) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::critical_step");
+  Exec space;
+  auto stable = [&](double dt) {
+    Params q = p;
+    q.dt = dt;
+    Simulation sim(q, s, f, mortar);
+    return sim.advance(space, steps);
+  };
+  double h = p.dt;
+  if (!(h > 0)) {
+    Params q = p;
+    q.dt = 1.0;
+    HostMap map;
+    h = build_model(q, s, f, mortar, map).step_estimate;
+  }
+  double lo = 0, hi = 0;
+  if (stable(h)) {
+    lo = h;
+    for (int k = 0; k < 60 && hi == 0; ++k) {
+      const double t = lo * 2;
+      if (stable(t)) lo = t;
+      else hi = t;
+    }
+  } else {
+    hi = h;
+    for (int k = 0; k < 60 && lo == 0; ++k) {
+      const double t = hi / 2;
+      if (stable(t)) lo = t;
+      else hi = t;
+    }
+  }
+  if (lo == 0 || hi == 0) throw std::runtime_error("dyn::critical_step: no stable/unstable bracket found");
+  while (hi - lo > rtol * lo) {
+    const double mid = 0.5 * (lo + hi);
+    if (stable(mid)) lo = mid;
+    else hi = mid;
+  }
+  return lo;
+}
+
+void table_4_2_damping(std::size_t bricks, double stiffness_ratio, double& alpha_d, double& beta_d) {
+  // Table 4.2 (MODEL.md §5): alpha_d in 1/Ms read as 1e6 / s, beta_d in microseconds.
+  static constexpr double counts[4] = {10206, 50400, 101150, 201600};
+  static constexpr double ratios[5] = {1, 10, 50, 100, 500};
+  static constexpr double tab[4][5][2] = {
+      {{0.07492, 0.8342}, {0.1010, 0.6187}, {0.1049, 0.5958}, {0.1054, 0.5928}, {0.1058, 0.5905}},
+      {{0.03388, 1.8445}, {0.04569, 1.3679}, {0.04745, 1.3172}, {0.04768, 1.3108}, {0.04787, 1.3056}},
+      {{0.02395, 2.6098}, {0.03229, 1.9355}, {0.03353, 1.8638}, {0.03370, 1.8546}, {0.03383, 1.8473}},
+      {{0.01698, 3.6813}, {0.02289, 2.7302}, {0.02377, 2.6290}, {0.02389, 2.6161}, {0.02399, 2.6057}}};
+  auto nearest = [](const double* xs, int n, double x) {  // nearest on a log scale
+    int best = 0;
+    const double lx = std::log(std::max(x, 1e-300));
+    for (int i = 1; i < n; ++i)
+      if (std::abs(std::log(xs[i]) - lx) < std::abs(std::log(xs[best]) - lx)) best = i;
+    return best;
+  };
+  const int i = nearest(counts, 4, static_cast<double>(bricks)), j = nearest(ratios, 5, stiffness_ratio);
+  alpha_d = tab[i][j][0] * 1e6;
+  beta_d = tab[i][j][1] * 1e-6;
+}
+
+}  // namespace nacre::dyn
