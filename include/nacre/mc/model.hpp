@@ -2,7 +2,9 @@
 /// \file
 /// \brief Device-resident rigid-brick model: brick poses and interface geometry as Views, in
 /// sweep order (free bricks grouped by colour, each colour contiguous, then driven bricks).
-#include <nacre/cohesive/interface_energy.hpp>
+#include <nacre/cohesive/law_table.hpp>
+#include <nacre/cohesive/quadrature.hpp>
+#include <nacre/kinematics/rigid.hpp>
 #include <nacre/core/types.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/colouring.hpp>
@@ -24,7 +26,7 @@ struct Model {
   using memory_space = MemorySpace;
 
   /// \brief Pose per brick: x, y, theta and, cached, sin(theta) and cos(theta) - 1 (a
-  /// cohesive::Frame). The sweep gathers ~6 neighbour poses per trial; with the rotation cached
+  /// kinematics::Frame). The sweep gathers ~6 neighbour poses per trial; with the rotation cached
   /// it needs 2 sines per trial (the proposal) instead of 16. Every writer goes through
   /// store_frame(). LayoutRight keeps a brick's five numbers together, so a gather touches one
   /// or two cache lines (CPU) / 32-byte sectors (GPU) instead of five.
@@ -43,9 +45,9 @@ struct Model {
   // in 11 columns (LayoutLeft would coalesce only the rarely called loop over all interfaces).
   Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> ends;       ///< bricks a, b
   Kokkos::View<double* [col(SegCol::count)], Kokkos::LayoutRight, MemorySpace> seg;
-  Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< 0 bed, 1 head (selects the law)
+  Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< geometry::JointKind (bed or head): selects the law
 
-  cohesive::Law law[2];        ///< one law per joint kind, shared by all interfaces of the kind
+  cohesive::LawTable laws;     ///< one law per joint kind, shared by all interfaces of the kind
   cohesive::Quadrature quad;
 
   // ---- host-side bookkeeping
@@ -61,19 +63,19 @@ struct Model {
 };
 
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
-/// and uploads everything. Poses start at zero.
-Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
+/// and uploads everything with `space` (fenced before returning). Poses start at zero.
+Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring,
                     const deck::Mortar& mortar, int quadrature_points);
 
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>
-KOKKOS_INLINE_FUNCTION cohesive::Segment load_segment(const SegView& seg, int i) {
+KOKKOS_INLINE_FUNCTION kinematics::Segment load_segment(const SegView& seg, int i) {
   using C = SegCol;
-  return cohesive::Segment{seg(i, col(C::ra0x)), seg(i, col(C::ra0y)), seg(i, col(C::ra1x)),
-                           seg(i, col(C::ra1y)), seg(i, col(C::rb0x)), seg(i, col(C::rb0y)),
-                           seg(i, col(C::rb1x)), seg(i, col(C::rb1y)), seg(i, col(C::nx)),
-                           seg(i, col(C::ny)),   seg(i, col(C::length))};
+  return kinematics::Segment{seg(i, col(C::ra0x)), seg(i, col(C::ra0y)), seg(i, col(C::ra1x)),
+                             seg(i, col(C::ra1y)), seg(i, col(C::rb0x)), seg(i, col(C::rb0y)),
+                             seg(i, col(C::rb1x)), seg(i, col(C::rb1y)), seg(i, col(C::nx)),
+                             seg(i, col(C::ny)),   seg(i, col(C::length))};
 }
 
 }  // namespace nacre::mc
