@@ -3,7 +3,9 @@
 // to a temporary sibling and renamed, so an interrupted or unstable run leaves only whole files.
 #include "dyn_output.hpp"
 
+#include <nacre/app/restart.hpp>
 #include <nacre/io/atomic_file.hpp>
+#include <nacre/io/checkpoint.hpp>
 #include <nacre/io/hdf5_writer.hpp>
 
 #include <Kokkos_Core.hpp>
@@ -119,6 +121,7 @@ DynWriter::DynWriter(const deck::Deck& d, const geometry::Specimen& s, const geo
       else dumps_.push_back({step, io::H5Reader(p.string()).attribute("time"), n});
     }
     flush_series();
+    if (d.output.hdf5 && !std::filesystem::exists(dir_ / "mesh.h5")) write_mesh(first);  // restart into another directory
     write_xdmf();
     return;
   }
@@ -227,41 +230,34 @@ void DynWriter::dump(long step, const dyn::Snapshot& snap, const DynCheckpoint& 
   flush_series();
 }
 
-void DynWriter::write_checkpoint(const std::filesystem::path& path, const DynCheckpoint& c) {
-  io::AtomicPath ap(path);
-  {
-    io::H5Writer h(ap.temp().string());
-    h.attribute("kind", std::string("dynamics"));
-    h.attribute("method", c.method);
-    h.attribute("step", static_cast<std::int64_t>(c.step));
-    h.attribute("time", c.time);
-    h.attribute("dt", c.dt);
-    std::string names;
-    for (const auto& [k, v] : c.state) names += k + "\n";
-    h.attribute("arrays", names);
-    h.group("/state");
-    for (const auto& [k, v] : c.state) h.write("/state/" + k, v);
-  }
-  ap.commit();
+void DynWriter::write_checkpoint(const std::filesystem::path& path, const DynCheckpoint& c) const {
+  io::Checkpoint k;
+  const std::string text = physics_text(deck_);
+  k.fingerprint = fingerprint(text);
+  k.strings["deck"] = text;
+  k.strings["kind"] = "dynamics";
+  k.strings["method"] = c.method;
+  k.integers["step"] = c.step;
+  k.reals["time"] = c.time;
+  k.reals["dt"] = c.dt;
+  k.arrays = c.state;
+  io::write_checkpoint(path, k);
 }
 
-DynCheckpoint DynWriter::read_checkpoint(const std::filesystem::path& path) {
-  const io::H5Reader h(path.string());
+DynCheckpoint DynWriter::read_checkpoint(const std::filesystem::path& path, const deck::Deck& d) {
+  const io::Checkpoint k = io::read_checkpoint(path);
+  if (!k.strings.count("kind") || k.strings.at("kind") != "dynamics")
+    throw io::CheckpointError(path.string() + ": not a checkpoint of a dynamic run (a Monte Carlo checkpoint?)");
+  check_fingerprint(k, d, path.string());
   DynCheckpoint c;
-  std::string kind;
-  try {
-    kind = h.string_attribute("kind");
-  } catch (const std::exception&) {
-  }
-  if (kind != "dynamics")
-    throw std::runtime_error(path.string() + ": not a checkpoint of a dynamic run (a Monte Carlo checkpoint?)");
-  c.method = h.string_attribute("method");
-  c.step = static_cast<long>(h.attribute("step"));
-  c.time = h.attribute("time");
-  c.dt = h.attribute("dt");
-  std::istringstream names(h.string_attribute("arrays"));
-  for (std::string k; std::getline(names, k);)
-    if (!k.empty()) c.state[k] = h.doubles("/state/" + k);
+  c.method = k.string("method");
+  c.step = static_cast<long>(k.integer("step"));
+  c.time = k.real("time");
+  c.dt = k.real("dt");
+  if (!(c.dt > 0) || c.step < 0)
+    throw io::CheckpointError(path.string() + ": dt = " + std::to_string(c.dt) + ", step = " + std::to_string(c.step) +
+                              " out of range; expected dt > 0 and step >= 0");
+  c.state = k.arrays;
   return c;
 }
 

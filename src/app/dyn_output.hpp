@@ -58,8 +58,11 @@ public:
   [[nodiscard]] long rows() const { return rows_; }
   [[nodiscard]] static std::string csv_header();
 
-  static void write_checkpoint(const std::filesystem::path& path, const DynCheckpoint& c);
-  [[nodiscard]] static DynCheckpoint read_checkpoint(const std::filesystem::path& path);
+  /// \brief checkpoint.h5 as an io::Checkpoint (named arrays, the deck's physics fingerprint,
+  /// checksum); read_checkpoint refuses (io::CheckpointError) a corrupt one, one of a Monte Carlo
+  /// run or of another deck, before anything in the output directory changes.
+  void write_checkpoint(const std::filesystem::path& path, const DynCheckpoint& c) const;
+  [[nodiscard]] static DynCheckpoint read_checkpoint(const std::filesystem::path& path, const deck::Deck& d);
 
 private:
   void write_mesh(const dyn::Snapshot& first);

@@ -6,6 +6,7 @@
 #include "dyn_output.hpp"
 #include "progress.hpp"
 
+#include <nacre/app/signals.hpp>
 #include <nacre/geometry/specimen.hpp>
 
 #include <Kokkos_Core.hpp>
@@ -167,7 +168,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   DynCheckpoint cp;
   double h_crit = 0;
   if (!restart.empty()) {
-    cp = DynWriter::read_checkpoint(restart);
+    cp = DynWriter::read_checkpoint(restart, d);
     if (cp.method != method_name(p.method))
       throw std::runtime_error(restart + ": checkpoint of method " + cp.method + ", the deck says " +
                                method_name(p.method));
@@ -260,6 +261,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     writer.dump(0, snap, checkpoint());
   }
 
+  SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
   double last_flush = elapsed(), last_progress = -1;
   const Kokkos::DefaultExecutionSpace space;
   long step = sim.steps();
@@ -294,6 +296,23 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     } else if (elapsed() - last_flush > 2.0) {
       writer.flush_series();
       last_flush = elapsed();
+    }
+    if (const int sig = pending_signal(); sig != 0 && step < total) {
+      if (progress) std::fprintf(stderr, "\n");
+      if (!dump) {  // the rows so far are written; the checkpoint holds this completed step
+        DynCheckpoint c = checkpoint();
+        if (auto q = non_finite(c.state); !q.empty())
+          return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+        writer.write_checkpoint(writer.directory() / "checkpoint.h5", c);
+      }
+      writer.flush_series();
+      status = "interrupted";
+      summary();
+      std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
+                << " s); checkpoint written to " << (writer.directory() / "checkpoint.h5").string()
+                << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string()
+                << " --restart " << (writer.directory() / "checkpoint.h5").string() << "\n";
+      return 128 + sig;
     }
     if (progress && (elapsed() - last_progress > 0.25 || step == total)) {
       last_progress = elapsed();

@@ -45,6 +45,7 @@ struct Params {
   double thermal_strain = 0;             ///< uniform thermal load Theta (isotropic eigenstrain)
   double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none)
   bool share_element_matrices = true;    ///< one matrix set per element type (false: per element)
+  int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
 };
 
 /// \brief Energy bookkeeping at the current time (all in N*mm). The balance residual is
