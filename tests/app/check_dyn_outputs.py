@@ -89,9 +89,9 @@ for f in dumps:
 with h5py.File(os.path.join(out, "checkpoint.h5"), "r") as c:
     check(c.attrs["kind"] == b"dynamics" or c.attrs["kind"] == "dynamics", "checkpoint kind")
     check(int(c.attrs["step"]) == int(dumps[-1][5:-3]), "checkpoint is not at the last dump")
-    check(len(c["/state"].keys()) > 0, "checkpoint holds no state arrays")
-    for k in c["/state"]:
-        check(bool(np.isfinite(c["/state/" + k][...]).all()), f"checkpoint /state/{k} not finite")
+    check(len(c["/arrays"].keys()) > 0, "checkpoint holds no state arrays")
+    for k in c["/arrays"]:
+        check(bool(np.isfinite(c["/arrays/" + k][...]).all()), f"checkpoint /arrays/{k} not finite")
 if summary.get("status") == "done":
     check(int(dumps[-1][5:-3]) == steps[-1], "last dump is not at the last step")
 if charts:

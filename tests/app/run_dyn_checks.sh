@@ -3,6 +3,7 @@
 #  1. the run's outputs are consistent (check_dyn_outputs.py);
 #  2. a run restarted from its checkpoint to twice the end time equals a direct run bit for bit
 #     (every series.csv column but the wall time, and every checkpoint array);
+#  2b. a checkpoint of a deck with other physics is refused (exit 2), the directory untouched;
 #  3. a step above the critical step stops with exit code 3 and a message naming step, time and
 #     quantity, and leaves only finite rows, dumps and checkpoint behind.
 #   run_dyn_checks.sh NACRE_EXE SOURCE_DIR WORK_DIR
@@ -37,13 +38,22 @@ python3 - short/checkpoint.h5 direct/checkpoint.h5 <<'PY'
 import sys, h5py, numpy as np
 a, b = (h5py.File(p, "r") for p in sys.argv[1:])
 assert int(a.attrs["step"]) == int(b.attrs["step"]), "checkpoints at different steps"
-assert sorted(a["/state"]) == sorted(b["/state"]), "different state arrays"
-for k in a["/state"]:
-    x, y = a["/state/" + k][...], b["/state/" + k][...]
-    assert x.shape == y.shape and np.array_equal(x.view(np.uint64), y.view(np.uint64)), f"/state/{k} differs"
-print(f"restart: {len(a['/state'])} state arrays bit-identical at step {int(a.attrs['step'])}")
+assert sorted(a["/arrays"]) == sorted(b["/arrays"]), "different state arrays"
+for k in a["/arrays"]:
+    x, y = a["/arrays/" + k][...], b["/arrays/" + k][...]
+    assert x.shape == y.shape and np.array_equal(x.view(np.uint64), y.view(np.uint64)), f"/arrays/{k} differs"
+print(f"restart: {len(a['/arrays'])} state arrays bit-identical at step {int(a.attrs['step'])}")
 PY
 python3 "$src/tests/app/check_dyn_outputs.py" short
+
+# 2b. a checkpoint of a deck with other physics is refused (exit 2) and changes nothing
+sed "s/^stiffness_ratio = .*/stiffness_ratio = 50/" long.toml > other.toml
+cp -r short refused && before=$(ls -l refused | md5sum)
+set +e; "$exe" other.toml -o refused -q --restart refused/checkpoint.h5 2> refused.err; rc=$?; set -e
+cat refused.err
+[ "$rc" -eq 2 ] || { echo "FAIL: a checkpoint of other physics gave exit $rc, expected 2"; exit 1; }
+grep -q "stiffness_ratio" refused.err || { echo "FAIL: the refusal does not name the differing key"; exit 1; }
+[ "$before" = "$(ls -l refused | md5sum)" ] || { echo "FAIL: a refused restart changed the output directory"; exit 1; }
 
 # 3. an unstable step is caught
 h=$("$exe" "$deck" --critical-step -q)
