@@ -90,9 +90,38 @@ int spawn_and_wait(const std::vector<std::string>& argv) {
 }
 
 struct RunOptions {
-  bool quiet = false, tty = false, extend = false;
+  bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
 };
+
+/// \brief A new run (or a restart into another directory) sets up its output directory afresh;
+/// refuse (UsageError) when that would remove the checkpoint of an unfinished run, unless
+/// --overwrite. A finished run, or a checkpoint that could not be restarted anyway, is replaced.
+void check_not_overwriting(const deck::Deck& d, const RunOptions& opt) {
+  if (opt.overwrite) return;
+  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(cpath, ec)) return;
+  if (!opt.restart.empty()) {
+    std::filesystem::path src = std::filesystem::path(opt.restart).parent_path();
+    if (src.empty()) src = ".";
+    if (std::filesystem::equivalent(src, dir, ec) && !ec) return;  // continuing in place
+  }
+  io::Checkpoint c;
+  try {
+    c = io::read_checkpoint(cpath);
+  } catch (const io::CheckpointError&) {
+    return;
+  }
+  const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
+  const auto step = c.integers.find("step");
+  if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return;
+  throw UsageError(cpath.string() + " holds the checkpoint of an unfinished run (step " +
+                   (step == c.integers.end() ? std::string("?") : std::to_string(step->second)) + ", D = " +
+                   std::to_string(D->second) + " of " + std::to_string(F->second) +
+                   "), which this run would remove; continue it with --restart " + cpath.string() +
+                   ", write elsewhere with -o, or pass --overwrite to start afresh");
+}
 
 /// \brief The specimen of a deck, refused (DeckError) when no brick is free.
 void build(const deck::Deck& d, geometry::Specimen& specimen, geometry::Interfaces& interfaces, std::size_t& n_free) {
@@ -280,6 +309,8 @@ int main(int argc, char* argv[]) {
       ->check(CLI::ExistingFile);
   cli.add_flag("--critical-step", critical,
                "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
+  cli.add_flag("--overwrite", opt.overwrite,
+               "start afresh even where the output directory holds the checkpoint of an unfinished run");
   cli.add_flag("--extend", opt.extend,
                "with --restart: the deck's final_displacement may differ from the checkpoint's run "
                "(continue a finished run further)");
@@ -330,6 +361,12 @@ int main(int argc, char* argv[]) {
     } catch (const io::CheckpointError& e) {
       std::cerr << "nacre: error: cannot restart: " << e.what() << "\n";
     }
+    return 2;
+  }
+  try {
+    check_not_overwriting(d, opt);
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
     return 2;
   }
   kokkos_args.push_back(nullptr);
