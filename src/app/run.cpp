@@ -12,6 +12,9 @@
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "progress.hpp"
+#include "run_dynamics.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -38,14 +41,6 @@ extern char** environ;
 namespace nacre::app {
 
 namespace {
-
-std::string hms(double s) {
-  if (!(s >= 0) || s > 360000) return "--:--";
-  const long t = static_cast<long>(s + 0.5);
-  char b[32];
-  std::snprintf(b, sizeof b, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-  return b;
-}
 
 /// \brief A bad command line (exit 2).
 struct UsageError : std::runtime_error {
@@ -95,9 +90,38 @@ int spawn_and_wait(const std::vector<std::string>& argv) {
 }
 
 struct RunOptions {
-  bool quiet = false, tty = false, extend = false;
+  bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
 };
+
+/// \brief A new run (or a restart into another directory) sets up its output directory afresh;
+/// refuse (UsageError) when that would remove the checkpoint of an unfinished run, unless
+/// --overwrite. A finished run, or a checkpoint that could not be restarted anyway, is replaced.
+void check_not_overwriting(const deck::Deck& d, const RunOptions& opt) {
+  if (opt.overwrite) return;
+  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(cpath, ec)) return;
+  if (!opt.restart.empty()) {
+    std::filesystem::path src = std::filesystem::path(opt.restart).parent_path();
+    if (src.empty()) src = ".";
+    if (std::filesystem::equivalent(src, dir, ec) && !ec) return;  // continuing in place
+  }
+  io::Checkpoint c;
+  try {
+    c = io::read_checkpoint(cpath);
+  } catch (const io::CheckpointError&) {
+    return;
+  }
+  const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
+  const auto step = c.integers.find("step");
+  if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return;
+  throw UsageError(cpath.string() + " holds the checkpoint of an unfinished run (step " +
+                   (step == c.integers.end() ? std::string("?") : std::to_string(step->second)) + ", D = " +
+                   std::to_string(D->second) + " of " + std::to_string(F->second) +
+                   "), which this run would remove; continue it with --restart " + cpath.string() +
+                   ", write elsewhere with -o, or pass --overwrite to start afresh");
+}
 
 /// \brief The specimen of a deck, refused (DeckError) when no brick is free.
 void build(const deck::Deck& d, geometry::Specimen& specimen, geometry::Interfaces& interfaces, std::size_t& n_free) {
@@ -272,23 +296,27 @@ int main(int argc, char* argv[]) {
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
 
-  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks, Monte Carlo)"};
+  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks by Monte Carlo; deformable bricks in time with a [dynamics] section)"};
   std::string deck_path;
   std::string out_override;
   RunOptions opt;
-  bool check_only = false;
+  bool check_only = false, critical = false;
   cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
   cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
   cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
   cli.add_flag("--check", check_only, "validate the deck and exit");
   cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
       ->check(CLI::ExistingFile);
+  cli.add_flag("--critical-step", critical,
+               "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
+  cli.add_flag("--overwrite", opt.overwrite,
+               "start afresh even where the output directory holds the checkpoint of an unfinished run");
   cli.add_flag("--extend", opt.extend,
                "with --restart: the deck's final_displacement may differ from the checkpoint's run "
                "(continue a finished run further)");
   cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
              "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
-             "checkpoint, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
+             "checkpoint, 3 dynamic run stopped unstable, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
     check_kokkos_flags(kokkos_args);
@@ -312,6 +340,10 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   if (!out_override.empty()) d.output.directory = out_override;
+  if (critical && !d.dynamics.enabled) {
+    std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
+    return 2;
+  }
   if (check_only) {
     std::cout << "nacre: " << deck_path << ": deck is valid\n";
     if (opt.restart.empty()) return 0;
@@ -331,11 +363,19 @@ int main(int argc, char* argv[]) {
     }
     return 2;
   }
+  try {
+    check_not_overwriting(d, opt);
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 2;
+  }
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
+    if (critical) return print_critical_step(d, opt.quiet);
+    if (d.dynamics.enabled) return run_dynamics(d, opt.quiet, opt.tty, opt.restart);
     return run_deck(d, opt);
   } catch (const deck::DeckError& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";

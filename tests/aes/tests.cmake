@@ -58,6 +58,6 @@ if(NACRE_VALGRIND)
                    ${_vg} $<TARGET_FILE:nacre_aes_ct_check> table)
   set_tests_properties(aes_constant_time_nacre aes_constant_time_table_is_caught PROPERTIES
     LABELS "aes;constant-time" ENVIRONMENT "${_nacre_aes_env}" TIMEOUT 120)
-else()
+elseif(NOT NACRE_SANITIZE)
   message(WARNING "nacre: valgrind not found; the AES constant-time tests are not registered")
 endif()

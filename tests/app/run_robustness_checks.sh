@@ -167,6 +167,11 @@ for s in TERM INT; do
     bad "SIG$s: exit $rc (expected $want): $(cat "sig_$s.err")"
   fi
   [ "$rows" -lt 10 ] || bad "SIG$s arrived after the run ended (test did not interrupt)"
+  if [ "$s" == TERM ]; then  # a new run would remove the unfinished run's checkpoint: refused
+    st=$(state sig_TERM)
+    expect 2 "unfinished run .*--restart sig_TERM/checkpoint.h5.*--overwrite" "$exe" sig.toml -o sig_TERM -q
+    [ "$(state sig_TERM)" == "$st" ] && ok "the unfinished run's directory is unchanged" || bad "refused new run changed sig_TERM/"
+  fi
   "$exe" sig.toml -o "sig_$s" -q --restart "sig_$s/checkpoint.h5" > /dev/null 2>&1 || bad "restart after SIG$s failed"
   if diff <(cut -d, -f1-12 "sig_$s/steps.csv") <(cut -d, -f1-12 sig_direct/steps.csv) > /dev/null; then
     ok "restart after SIG$s equals the uninterrupted run"
