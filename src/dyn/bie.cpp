@@ -48,14 +48,21 @@ BieTables<> build_bie_tables(const Model<>& m) {
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
   for (int t = 0; t < nt; ++t) {
     const auto Jv = bie_jacobian_host(m, t);
-    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(Jv.data(), n, n);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jraw(Jv.data(), n, n);
+    // Rows/columns of p (mm) and v (mm/s) differ in unit: invert the dimensionless
+    // J~ = D J D^-1, D = diag(I, h I) (velocity as h v), whose condition number means something,
+    // then J^-1 = D^-1 J~^-1 D.
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(n);
+    d.tail(nd).setConstant(m.h);
+    const Eigen::MatrixXd J = d.asDiagonal() * Jraw * d.cwiseInverse().asDiagonal();
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
-    const Eigen::MatrixXd Ji = lu.inverse();
-    // cond_1(J) = |J|_1 |J^-1|_1 (exact for the computed inverse, n <= 32: cheap)
-    const double cond = J.cwiseAbs().colwise().sum().maxCoeff() * Ji.cwiseAbs().colwise().sum().maxCoeff();
-    const double err = (J * Ji - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff();
+    const Eigen::MatrixXd Jti = lu.inverse();
+    // cond_1(J~) = |J~|_1 |J~^-1|_1 (exact for the computed inverse, n <= 32: cheap)
+    const double cond = J.cwiseAbs().colwise().sum().maxCoeff() * Jti.cwiseAbs().colwise().sum().maxCoeff();
+    const double err = (J * Jti - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff();
+    const Eigen::MatrixXd Ji = d.cwiseInverse().asDiagonal() * Jti * d.asDiagonal();
     if (!std::isfinite(cond) || cond > kMaxCondition || !Ji.allFinite())
-      throw std::runtime_error("dyn: BIE Jacobian of element type " + std::to_string(t) + " is ill-conditioned (cond_1 = " +
+      throw std::runtime_error("dyn: BIE Jacobian of element type " + std::to_string(t) + " is ill-conditioned (cond_1 of D J D^-1 = " +
                                std::to_string(cond) + " > 1e12); the step or the damping is out of range");
     b.max_condition = std::max(b.max_condition, cond);
     b.max_identity_error = std::max(b.max_identity_error, err);

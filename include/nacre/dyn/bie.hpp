@@ -47,13 +47,13 @@ struct BieTables {
   Kokkos::View<int*, MemorySpace> tile_start;     ///< shared_gemm work items: first slot of each tile
   Kokkos::View<int*, MemorySpace> tile_count;     ///< ... and its number of slots (<= kTile, one type)
   std::vector<int> type_offset;                   ///< host: slots of type t are [off[t], off[t+1])
-  double max_condition = 0;                       ///< max over types of cond_1(J)
-  double max_identity_error = 0;                  ///< max over types of max|J J^-1 - I|
+  double max_condition = 0;      ///< max over types of cond_1(D J D^-1), D = diag(I, h I) (dimensionless J)
+  double max_identity_error = 0; ///< max over types of max|J~ J~^-1 - I| of that dimensionless J~
   int n2 = 0;                                     ///< 2 * nd
 };
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
-/// check cond_1(J) (throws std::runtime_error above 1e12 or on a non-finite inverse), upload.
+/// check cond_1 of the dimensionless D J D^-1, D = diag(I, h I) (throws std::runtime_error above 1e12 or on a non-finite inverse), upload.
 BieTables<> build_bie_tables(const Model<>& m);
 
 /// \brief Host J of eq. 4.7 for type t of the model (2nd x 2nd; padded dof rows are identity).

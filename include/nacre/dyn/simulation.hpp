@@ -113,7 +113,7 @@ public:
   [[nodiscard]] std::size_t bricks() const;
 
   /// \brief BIE only (0 otherwise): largest 1-norm condition number of the per-type Jacobians
-  /// J of eq. 4.7, checked at start-up.
+  /// J of eq. 4.7 in dimensionless form D J D^-1, D = diag(I, h I), checked at start-up.
   [[nodiscard]] double jacobian_condition() const;
   /// \brief BIE only (0 otherwise): relative residual of the last step after its last Newton
   /// iteration, sqrt(sum m |G_v|^2 / sum m |v_{n+1} - v_n|^2): what neglecting the interface
