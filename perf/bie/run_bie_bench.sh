@@ -30,15 +30,15 @@ one() {
     done ;;
   speedup)
     note speedup
-    run env $env $exe speedup --bricks "${BIE_BRICKS:-1000}" --ratios 1,10,100,500 --bie-steps 100 --steps 1000 \
+    run env $env $exe speedup --bricks "${BIE_BRICKS:-1000}" --ratios 1,100,500 --bie-steps 100 --steps 1000 \
       --out "$out/speedup.csv" --kokkos-num-threads=2 ;;
   accuracy)
     note accuracy
-    run env $env $exe accuracy --bricks "${BIE_BRICKS:-200}" --ratio 500 --steps 1000 --horizon 40 --levels 4 \
+    run env $env $exe accuracy --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 20 --levels 3 \
       --out "$out/accuracy.csv" --kokkos-num-threads=2 ;;
   fail)
     note fail
-    run env $env $exe fail --bricks "${BIE_BRICKS:-200}" --ratios 10,100,500 --steps 1000 --horizon 40 \
+    run env $env $exe fail --bricks "${BIE_BRICKS:-200}" --ratios 10,100,500 --steps 1000 --horizon 20 \
       --out "$out/fail.csv" --kokkos-num-threads=2 ;;
   memory)
     note memory
