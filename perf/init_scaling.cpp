@@ -48,7 +48,7 @@ int main(int argc, char* argv[]) {
     auto c = mc::colour_graph("natural", s, adj, free, 1);
     const double tc = since(t);
     t = clk::now();
-    auto m = mc::build_model(s, f, adj, c, d.mortar, 4);
+    auto m = mc::build_model(ExecSpace{}, s, f, adj, c, d.mortar, 4);
     Kokkos::fence();
     const double tm = since(t);
     out << s.size() << "," << f.size() << "," << ts << "," << ti << "," << tc << "," << tm << "," << ts + ti + tc + tm << "\n";

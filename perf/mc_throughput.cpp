@@ -47,7 +47,7 @@ struct RefBrick {
 };
 struct RefIface {
   int a, b;
-  cohesive::Segment seg;
+  kinematics::Segment seg;
   cohesive::Law law;
 };
 
@@ -55,10 +55,10 @@ double reference_run(const deck::Deck& d, const geometry::Specimen& s, const geo
                      double load, int cycles, long& trials, double& energy_out) {
   std::vector<RefBrick> bricks(s.size());
   std::vector<RefIface> ifs(f.size());
-  const mc::LoadPattern lp{d.load.tension, d.load.bending, d.geometry.width};
+  const loading::Pattern lp{d.load.tension, d.load.bending, d.geometry.width};
   for (std::size_t i = 0; i < s.size(); ++i) {
     bricks[i].free = s.drive[i] == geometry::Drive::free;
-    const auto p = bricks[i].free ? cohesive::Pose{0, 0, 0} : lp.pose(static_cast<int>(s.drive[i]), s.cx[i], load);
+    const auto p = bricks[i].free ? kinematics::Pose{0, 0, 0} : loading::rigid_pose(lp, static_cast<int>(s.drive[i]), s.cx[i], s.cy[i], load);
     bricks[i].x = p.x, bricks[i].y = p.y, bricks[i].t = p.t;
   }
   for (std::size_t i = 0; i < f.size(); ++i) {
@@ -74,15 +74,15 @@ double reference_run(const deck::Deck& d, const geometry::Specimen& s, const geo
   std::uniform_real_distribution<double> U(0.0, 1.0);
   const double T = d.solver.temperature, st = d.solver.step, sr = d.solver.rot_step;
   // the reference gets the same one-trigonometry-per-pose evaluation as nacre's kernel
-  auto brick_energy = [&](std::size_t b, const cohesive::Pose& pose) {
-    const cohesive::Frame p = cohesive::make_frame(pose);
+  auto brick_energy = [&](std::size_t b, const kinematics::Pose& pose) {
+    const kinematics::Frame p = kinematics::make_frame(pose);
     double e = 0;
     for (int i : bricks[b].ifaces) {
       const auto& in = ifs[i];
       const auto& o = bricks[in.a == static_cast<int>(b) ? in.b : in.a];
-      const cohesive::Frame po = cohesive::make_frame({o.x, o.y, o.t});
-      e += in.a == static_cast<int>(b) ? cohesive::interface_energy(in.law, q, in.seg, p, po)
-                                       : cohesive::interface_energy(in.law, q, in.seg, po, p);
+      const kinematics::Frame po = kinematics::make_frame({o.x, o.y, o.t});
+      e += in.a == static_cast<int>(b) ? kinematics::interface_energy(in.law, q, in.seg, p, po)
+                                       : kinematics::interface_energy(in.law, q, in.seg, po, p);
     }
     return e;
   };
@@ -91,8 +91,8 @@ double reference_run(const deck::Deck& d, const geometry::Specimen& s, const geo
   for (int c = 0; c < cycles; ++c)
     for (std::size_t b = 0; b < bricks.size(); ++b) {
       if (!bricks[b].free) continue;
-      const cohesive::Pose old{bricks[b].x, bricks[b].y, bricks[b].t};
-      const cohesive::Pose trial{old.x + st * (2 * U(gen) - 1), old.y + st * (2 * U(gen) - 1), old.t + sr * (2 * U(gen) - 1)};
+      const kinematics::Pose old{bricks[b].x, bricks[b].y, bricks[b].t};
+      const kinematics::Pose trial{old.x + st * (2 * U(gen) - 1), old.y + st * (2 * U(gen) - 1), old.t + sr * (2 * U(gen) - 1)};
       const double dE = brick_energy(b, trial) - brick_energy(b, old);
       if (dE <= 0 || U(gen) < std::exp(-dE / T)) bricks[b].x = trial.x, bricks[b].y = trial.y, bricks[b].t = trial.t;
       ++trials;
@@ -101,7 +101,7 @@ double reference_run(const deck::Deck& d, const geometry::Specimen& s, const geo
   double e = 0;
   for (const auto& in : ifs) {
     const auto &A = bricks[in.a], &B = bricks[in.b];
-    e += cohesive::interface_energy(in.law, q, in.seg, cohesive::Pose{A.x, A.y, A.t}, cohesive::Pose{B.x, B.y, B.t});
+    e += kinematics::interface_energy(in.law, q, in.seg, kinematics::Pose{A.x, A.y, A.t}, kinematics::Pose{B.x, B.y, B.t});
   }
   energy_out = e;
   return sec;

@@ -1,5 +1,8 @@
-// The cohesive law (MODEL.md §2) and its integration along an interface.
-#include <nacre/cohesive/interface_energy.hpp>
+// The cohesive law (MODEL.md §2), its integration along an interface (energy and end forces from
+// one quadrature loop), the law table by joint kind, and the rigid-brick gap.
+#include <nacre/cohesive/law_table.hpp>
+#include <nacre/cohesive/segment.hpp>
+#include <nacre/kinematics/rigid.hpp>
 
 #include <catch2/catch_approx.hpp>
 #include <catch2/catch_test_macros.hpp>
@@ -9,6 +12,9 @@
 #include <random>
 
 using namespace nacre::cohesive;
+using nacre::kinematics::Pose;
+using nacre::kinematics::Segment;
+using nacre::kinematics::interface_energy;
 
 namespace {
 const Law law{100.0, 0.01, 0.03};  // rupture at 0.04, work to failure k x1 x2 = 0.03
@@ -80,8 +86,8 @@ TEST_CASE("Gauss-Legendre rules integrate polynomials of degree 2n-1 exactly", "
 
 namespace {
 // A segment of length 2 along x between two bricks; the gap varies linearly from g0 to g1.
-double segment_energy(const Quadrature& q, double g0x, double g0y, double g1x, double g1y) {
-  return gap_energy(law, q, Gap{g0x, g0y, g1x, g1y, 0.0, 1.0}, 2.0);
+double seg_energy(const Quadrature& q, double g0x, double g0y, double g1x, double g1y) {
+  return integrate(EnergyTag{}, law, q, Gap{g0x, g0y, g1x, g1y, 0.0, 1.0}, 2.0);
 }
 double reference_energy(double g0x, double g0y, double g1x, double g1y) {
   // composite midpoint rule, 20000 panels: error ~1e-9 relative even across kinks
@@ -100,20 +106,20 @@ TEST_CASE("interface quadrature: exact where the density is polynomial, convergi
           "[cohesive][quadrature]") {
   SECTION("elastic range: 2 points are exact") {
     const double ref = reference_energy(0.001, 0.004, -0.002, 0.008);
-    CHECK(segment_energy(gauss_legendre(2), 0.001, 0.004, -0.002, 0.008) == Catch::Approx(ref).epsilon(1e-7));
+    CHECK(seg_energy(gauss_legendre(2), 0.001, 0.004, -0.002, 0.008) == Catch::Approx(ref).epsilon(1e-7));
   }
   SECTION("interpenetration (degree-6 penalty): 4 points are exact") {
     // dn < 0 all along, |gap| < x1: f quadratic + g degree 6
     const double ref = reference_energy(0.0, -0.002, 0.0, -0.006);
-    CHECK(segment_energy(gauss_legendre(4), 0.0, -0.002, 0.0, -0.006) == Catch::Approx(ref).epsilon(1e-7));
-    CHECK(std::abs(segment_energy(gauss_legendre(2), 0.0, -0.002, 0.0, -0.006) - ref) > 1e-6 * ref);
+    CHECK(seg_energy(gauss_legendre(4), 0.0, -0.002, 0.0, -0.006) == Catch::Approx(ref).epsilon(1e-7));
+    CHECK(std::abs(seg_energy(gauss_legendre(2), 0.0, -0.002, 0.0, -0.006) - ref) > 1e-6 * ref);
   }
   SECTION("gap through all branches: error falls with the number of points") {
     // normal opening from 0 to 0.05 along the segment crosses x1, x2 and x1 + x2
     const double ref = reference_energy(0.0, 0.0, 0.0, 0.05);
     double prev = 1e300;
     for (int n : {2, 4, 8}) {
-      const double err = std::abs(segment_energy(gauss_legendre(n), 0.0, 0.0, 0.0, 0.05) - ref) / ref;
+      const double err = std::abs(seg_energy(gauss_legendre(n), 0.0, 0.0, 0.0, 0.05) - ref) / ref;
       CHECK(err < prev);
       prev = err;
     }
@@ -141,4 +147,83 @@ TEST_CASE("interface energy: uniform opening of a rigid pair, and its force", "[
   const double t = 0.05;
   const Pose ra{0, 0, t}, rb{-std::sin(t) * 1.0, std::cos(t) * 1.0 - 1.0, t};
   CHECK(interface_energy(law, q, sg, ra, rb) == Catch::Approx(0.0).margin(1e-20));
+}
+
+TEST_CASE("law: Cartesian and local forms agree; the traction is the gradient of the density",
+          "[cohesive]") {
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> U(-0.05, 0.05), A(0.0, 6.283185307179586);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double gx = U(gen), gy = U(gen), a = A(gen), scale = 1.0 + 0.2 * U(gen);  // normal not unit
+    const double nx = scale * std::cos(a), ny = scale * std::sin(a);
+    const double ux = nx / scale, uy = ny / scale;
+    const double dn = gx * ux + gy * uy, dt = -gx * uy + gy * ux;
+    INFO("gap " << gx << ", " << gy << ", normal angle " << a);
+    CHECK(law(EnergyTag{}, gx, gy, nx, ny) == Catch::Approx(law(EnergyTag{}, dn, dt)).epsilon(1e-12).margin(1e-18));
+    double tx, ty, fn, ft;
+    law(TractionTag{}, gx, gy, nx, ny, tx, ty);
+    law(TractionTag{}, dn, dt, fn, ft);
+    CHECK(tx == Catch::Approx(fn * ux - ft * uy).epsilon(1e-10).margin(1e-14));
+    CHECK(ty == Catch::Approx(fn * uy + ft * ux).epsilon(1e-10).margin(1e-14));
+    const double h = 1e-8;
+    const double ex = (law(EnergyTag{}, gx + h, gy, nx, ny) - law(EnergyTag{}, gx - h, gy, nx, ny)) / (2 * h);
+    const double ey = (law(EnergyTag{}, gx, gy + h, nx, ny) - law(EnergyTag{}, gx, gy - h, nx, ny)) / (2 * h);
+    CHECK(tx == Catch::Approx(ex).margin(1e-5));
+    CHECK(ty == Catch::Approx(ey).margin(1e-5));
+  }
+}
+
+TEST_CASE("segment: end forces are the gradient of the segment energy (same quadrature loop)",
+          "[cohesive][quadrature]") {
+  const Quadrature q = gauss_legendre(4);
+  const double L = 1.7, nx = 0.6, ny = 0.8;
+  // elastic (closed form), penetrating, across plateau/softening, ruptured at one end
+  const Gap cases[] = {{0.001, 0.002, -0.003, 0.004, nx, ny},
+                       {-0.004, -0.003, -0.001, -0.006, nx, ny},
+                       {0.005, 0.012, 0.02, 0.01, nx, ny},
+                       {0.0, 0.001, 0.03, 0.04, nx, ny}};
+  for (const Gap& g : cases) {
+    const EndForces f = integrate(TractionTag{}, law, q, g, L);
+    const double h = 1e-9;
+    auto E = [&](int c, double d) {
+      Gap p = g;
+      double* v[4] = {&p.g0x, &p.g0y, &p.g1x, &p.g1y};
+      *v[c] += d;
+      return integrate(EnergyTag{}, law, q, p, L);
+    };
+    const double fd[4] = {(E(0, h) - E(0, -h)) / (2 * h), (E(1, h) - E(1, -h)) / (2 * h),
+                          (E(2, h) - E(2, -h)) / (2 * h), (E(3, h) - E(3, -h)) / (2 * h)};
+    INFO("gap ends (" << g.g0x << ", " << g.g0y << ") (" << g.g1x << ", " << g.g1y << ")");
+    CHECK(f.f0x == Catch::Approx(fd[0]).epsilon(1e-5).margin(1e-7));
+    CHECK(f.f0y == Catch::Approx(fd[1]).epsilon(1e-5).margin(1e-7));
+    CHECK(f.f1x == Catch::Approx(fd[2]).epsilon(1e-5).margin(1e-7));
+    CHECK(f.f1y == Catch::Approx(fd[3]).epsilon(1e-5).margin(1e-7));
+  }
+  // in the elastic range the closed form and the quadrature rule agree (2+ points are exact there)
+  const Gap el{0.001, 0.002, -0.003, 0.004, nx, ny};
+  REQUIRE(elastic_segment(law, el));
+  detail::ForceSum acc;
+  quadrature_loop(law, q, el, acc);
+  const EndForces cf = integrate(TractionTag{}, law, q, el, L);
+  CHECK(cf.f0x == Catch::Approx(L * acc.f.f0x).epsilon(1e-12));
+  CHECK(cf.f1y == Catch::Approx(L * acc.f.f1y).epsilon(1e-12));
+  detail::EnergySum es;
+  quadrature_loop(law, q, el, es);
+  CHECK(integrate(EnergyTag{}, law, q, el, L) == Catch::Approx(L * es.e).epsilon(1e-12));
+}
+
+TEST_CASE("law table: one law per joint kind, a rigid model has no internal joints", "[cohesive]") {
+  using nacre::geometry::JointKind;
+  const Law bed{100.0, 0.01, 0.02}, head{50.0, 0.005, 0.01}, internal{5000.0, 1.0, 1.0};
+  const LawTable t = make_law_table(bed, head, internal);
+  CHECK(t[JointKind::bed].k == 100.0);
+  CHECK(t[JointKind::head].x1 == 0.005);
+  CHECK(t[JointKind::internal].k == 5000.0);
+  CHECK(t[static_cast<std::uint8_t>(1)].k == 50.0);  // as stored per interface in a model
+  const LawTable rigid = make_law_table(bed, head);
+  CHECK(rigid[JointKind::internal](EnergyTag{}, 0.3, -0.2) == 0.0);  // kNoJoint: no energy
+  double fn = 1, ft = 1;
+  rigid[JointKind::internal](TractionTag{}, 0.3, -0.2, fn, ft);
+  CHECK(fn == 0.0);
+  CHECK(ft == 0.0);
 }

@@ -42,12 +42,12 @@ deck::Deck small_deck() {
 double exact_elastic_energy(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
                             double D) {
   const int n = static_cast<int>(s.size());
-  const mc::LoadPattern lp{d.load.tension, d.load.bending, d.geometry.width};
+  const loading::Pattern lp{d.load.tension, d.load.bending, d.geometry.width};
   Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * n);
   std::vector<bool> fixed(3 * n, false);
   for (int b = 0; b < n; ++b)
     if (s.drive[b] != geometry::Drive::free) {
-      const auto p = lp.pose(static_cast<int>(s.drive[b]), s.cx[b], D);
+      const auto p = loading::rigid_pose(lp, static_cast<int>(s.drive[b]), s.cx[b], s.cy[b], D);
       q(3 * b) = p.x, q(3 * b + 1) = p.y, q(3 * b + 2) = p.t;
       fixed[3 * b] = fixed[3 * b + 1] = fixed[3 * b + 2] = true;
     }

@@ -7,15 +7,16 @@
 namespace nacre::mc {
 
 namespace {
-void alloc_tile_offset(Model<>& m, const std::vector<int>& toff) {
-  m.tile_offset = Kokkos::View<int*>("nacre::mc::tile_offset", toff.size());
-  auto h = Kokkos::create_mirror_view(m.tile_offset);
+void alloc_tile_offset(const ExecSpace& space, Model<>& m, const std::vector<int>& toff) {
+  m.tile_offset = Kokkos::View<int*>(
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::tile_offset"), toff.size());
+  auto h = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.tile_offset);
   for (std::size_t i = 0; i < toff.size(); ++i) h(i) = toff[i];
-  Kokkos::deep_copy(m.tile_offset, h);
+  Kokkos::deep_copy(space, m.tile_offset, h);
 }
 }  // namespace
 
-Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
+Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring,
                     const deck::Mortar& mortar, int quadrature_points) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::build_model");
@@ -24,8 +25,7 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
   m.n_bricks = n;
   m.n_interfaces = ni;
   m.colouring_name = colouring.name;
-  m.law[0] = mortar.bed;
-  m.law[1] = mortar.head;
+  m.laws = cohesive::make_law_table(mortar.bed, mortar.head);  // no internal joints in rigid bricks
   m.quad = cohesive::gauss_legendre(quadrature_points);
 
   // Sweep order: free bricks by (colour, tile, wall order), then the driven bricks. Wall order
@@ -54,7 +54,7 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
     }
     m.colour_tiles.push_back(static_cast<int>(toff.size()) - 1);
   }
-  alloc_tile_offset(m, toff);
+  alloc_tile_offset(space, m, toff);
   std::vector<int> inv(n);
   for (int k = 0; k < n; ++k) inv[m.perm[k]] = k;
 
@@ -72,58 +72,62 @@ Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
     }
   }
 
-  auto alloc = [](auto& v, const char* label, std::size_t len) {
-    v = std::remove_reference_t<decltype(v)>(Kokkos::view_alloc(std::string("nacre::mc::") + label), len);
+  // Every View but the poses is filled from its host mirror below: no initialisation pass.
+  auto alloc = [&](auto& v, const char* label, std::size_t len) {
+    v = std::remove_reference_t<decltype(v)>(
+        Kokkos::view_alloc(space, Kokkos::WithoutInitializing, std::string("nacre::mc::") + label), len);
   };
-  alloc(m.pose, "pose", n);
+  m.pose = Model<>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::pose")), n);  // zero poses
   alloc(m.cx, "cx", n), alloc(m.cy, "cy", n), alloc(m.drive, "drive", n), alloc(m.id, "id", n);
   alloc(m.phi0, "phi0", n);
   alloc(m.adj_offset, "adj_offset", n + 1);
   alloc(m.ends, "ends", ni), alloc(m.seg, "seg", ni), alloc(m.kind, "kind", ni);
 
-  auto hcx = Kokkos::create_mirror_view(m.cx), hcy = Kokkos::create_mirror_view(m.cy);
-  auto hdrive = Kokkos::create_mirror_view(m.drive);
-  auto hid = Kokkos::create_mirror_view(m.id);
+  auto hcx = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.cx), hcy = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.cy);
+  auto hdrive = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.drive);
+  auto hid = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.id);
   for (int k = 0; k < n; ++k) {
     const int i = m.perm[k];
     hcx(k) = s.cx[i], hcy(k) = s.cy[i];
     hdrive(k) = static_cast<std::int8_t>(s.drive[i]);
     hid(k) = static_cast<std::uint64_t>(i);
   }
-  auto hends = Kokkos::create_mirror_view(m.ends);
-  auto hseg = Kokkos::create_mirror_view(m.seg);
-  auto hkind = Kokkos::create_mirror_view(m.kind);
+  auto hends = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.ends);
+  auto hseg = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.seg);
+  auto hkind = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.kind);
   for (int i = 0; i < ni; ++i) {
     const int o = iperm[i];
     hends(i, 0) = inv[f.a[o]], hends(i, 1) = inv[f.b[o]];
     hkind(i) = static_cast<std::uint8_t>(f.kind[o]);
-    const double v[SEG_COLS] = {f.ra0x[o], f.ra0y[o], f.ra1x[o], f.ra1y[o], f.rb0x[o], f.rb0y[o],
+    const double v[col(SegCol::count)] = {f.ra0x[o], f.ra0y[o], f.ra1x[o], f.ra1y[o], f.rb0x[o], f.rb0y[o],
                                 f.rb1x[o], f.rb1y[o], f.nx[o],   f.ny[o],   f.length[o]};
-    for (int c = 0; c < SEG_COLS; ++c) hseg(i, c) = v[c];
+    for (int c = 0; c < col(SegCol::count); ++c) hseg(i, c) = v[c];
   }
   m.iface_perm = iperm;
   // CSR in sweep order, and the predictor's reference energy phi0 (all interfaces at x1).
-  auto hoff = Kokkos::create_mirror_view(m.adj_offset);
-  auto hphi0 = Kokkos::create_mirror_view(m.phi0);
+  auto hoff = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.adj_offset);
+  auto hphi0 = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.phi0);
   std::vector<int> deg(n, 0);
   for (int i = 0; i < ni; ++i) ++deg[hends(i, 0)], ++deg[hends(i, 1)];
   hoff(0) = 0;
   for (int k = 0; k < n; ++k) hoff(k + 1) = hoff(k) + deg[k];
   alloc(m.adj_iface, "adj_iface", hoff(n));
-  auto hadj = Kokkos::create_mirror_view(m.adj_iface);
+  auto hadj = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.adj_iface);
   std::vector<int> fill(n);
   for (int k = 0; k < n; ++k) fill[k] = hoff(k), hphi0(k) = 0;
   for (int i = 0; i < ni; ++i)
     for (int side = 0; side < 2; ++side) {
       const int k = hends(i, side);
       hadj(fill[k]++) = i;
-      const auto& law = m.law[hkind(i)];
-      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, LEN);
+      const auto& law = m.laws[hkind(i)];
+      hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, col(SegCol::length));
     }
-  Kokkos::deep_copy(m.cx, hcx), Kokkos::deep_copy(m.cy, hcy), Kokkos::deep_copy(m.drive, hdrive);
-  Kokkos::deep_copy(m.id, hid), Kokkos::deep_copy(m.ends, hends), Kokkos::deep_copy(m.seg, hseg);
-  Kokkos::deep_copy(m.kind, hkind), Kokkos::deep_copy(m.adj_offset, hoff);
-  Kokkos::deep_copy(m.adj_iface, hadj), Kokkos::deep_copy(m.phi0, hphi0);
+  Kokkos::deep_copy(space, m.cx, hcx), Kokkos::deep_copy(space, m.cy, hcy);
+  Kokkos::deep_copy(space, m.drive, hdrive), Kokkos::deep_copy(space, m.id, hid);
+  Kokkos::deep_copy(space, m.ends, hends), Kokkos::deep_copy(space, m.seg, hseg);
+  Kokkos::deep_copy(space, m.kind, hkind), Kokkos::deep_copy(space, m.adj_offset, hoff);
+  Kokkos::deep_copy(space, m.adj_iface, hadj), Kokkos::deep_copy(space, m.phi0, hphi0);
+  space.fence("nacre::mc::build_model");  // the host mirrors go out of scope
   return m;
 }
 

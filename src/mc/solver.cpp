@@ -16,9 +16,20 @@ std::vector<bool> free_flags(const geometry::Specimen& s) {
 }
 }  // namespace
 
-Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-               std::ostream* log)
-    : deck_(d),
+namespace {
+Colouring make_colouring(const std::string& name, const geometry::Specimen& s, const geometry::Adjacency& adj,
+                         const std::vector<bool>& free, std::uint64_t seed) {
+  Colouring c = colour_graph(name, s, adj, free, seed);
+  if (auto err = validate_colouring(c, adj, free); !err.empty())
+    throw std::logic_error("colouring '" + name + "' is invalid: " + err);
+  return c;
+}
+}  // namespace
+
+Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+               const geometry::Interfaces& f, std::ostream* log)
+    : space_(space),
+      deck_(d),
       pattern_{d.load.tension, d.load.bending, d.geometry.width},
       monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol,
                d.solver.stol_relative),
@@ -27,99 +38,112 @@ Solver::Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry:
       log_(log) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::setup");
   const auto adj = geometry::build_adjacency(s.size(), f);
-  const auto free = free_flags(s);
-  auto colour = [&](const std::string& name) {
-    Colouring c = colour_graph(name, s, adj, free, d.seed);
-    if (auto err = validate_colouring(c, adj, free); !err.empty())
-      throw std::logic_error("colouring '" + name + "' is invalid: " + err);
-    return c;
-  };
-  source_ = rng::make_uniform_source(d.solver.rng, d.seed);
   std::string chosen = d.solver.colouring;
-  if (chosen == "auto") {
-    // Pre-simulation (§2.4): a few cycles at the first load increment with each candidate; the
-    // fastest wins. (The choice depends on timings; pin `colouring` for bit-reproducible runs
-    // across machines — the chosen name is logged and written to the outputs.)
-    Kokkos::Profiling::ScopedRegion pre("nacre::mc::presimulation");
-    double best = std::numeric_limits<double>::max();
-    for (const auto& name : colouring_strategies()) {
-      Colouring c = colour(name);
-      m_ = build_model(s, f, adj, c, d.mortar, d.solver.quadrature_points);
-      allocate_work();
-      set_load(d.load.initial_step);
-      cycle();  // warm-up (first touch, instantiation)
-      Kokkos::fence();
-      // best of three blocks: the minimum is robust to a busy machine's interruptions
-      double per_cycle = std::numeric_limits<double>::max();
-      for (int rep = 0; rep < 3; ++rep) {
-        Kokkos::Timer timer;
-        for (int k = 0; k < d.solver.presim_cycles; ++k) cycle();
-        Kokkos::fence();
-        per_cycle = std::min(per_cycle, timer.seconds() / d.solver.presim_cycles);
-      }
-      presim_.emplace_back(name, per_cycle);
-      if (log_) *log_ << "  pre-simulation: colouring " << name << ", " << c.n_colours << " colours, "
-                      << per_cycle * 1e3 << " ms/cycle\n";
-      best = std::min(best, per_cycle);
-    }
-    // Timings within 15 % of the fastest count as a tie, won by the earliest candidate in the
-    // fixed list: machine noise then rarely flips the choice (and with it the run's result).
-    for (const auto& [name, sec] : presim_)
-      if (sec <= 1.15 * best) {
-        chosen = name;
-        break;
-      }
-    // the pre-simulation leaves no trace: fresh generator state, counters and step sizes
-    source_ = rng::make_uniform_source(d.solver.rng, d.seed);
-    times_ = {};
-    global_cycle_ = 0;
-    step_ = d.solver.step;
-    rot_step_ = d.solver.rot_step;
-    window_accepted_ = window_trials_ = accepted_total_ = trials_total_ = 0;
-  }
-  Colouring c = colour(chosen);
-  m_ = build_model(s, f, adj, c, d.mortar, d.solver.quadrature_points);
-  allocate_work();
-  D_ = 0;
-  set_load(0);
-  E_ = energy();
+  if (chosen == "auto") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
+  const Colouring c = make_colouring(chosen, s, adj, free_flags(s), d.seed);
+  setup(s, f, adj, c);
   if (log_) *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << m_.n_free
                   << " free and " << (m_.n_bricks - m_.n_free) << " driven bricks, " << m_.n_interfaces
                   << " interfaces\n";
 }
 
+Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+               const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c)
+    : space_(space),
+      deck_(d),
+      pattern_{d.load.tension, d.load.bending, d.geometry.width},
+      monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol,
+               d.solver.stol_relative),
+      step_(d.solver.step),
+      rot_step_(d.solver.rot_step),
+      log_(nullptr) {
+  setup(s, f, adj, c);
+}
+
+void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                   const Colouring& c) {
+  source_ = rng::make_uniform_source(deck_.solver.rng, deck_.seed);
+  m_ = build_model(space_, s, f, adj, c, deck_.mortar, deck_.solver.quadrature_points);
+  allocate_work();
+  D_ = 0;
+  set_load(0);
+  E_ = energy();
+}
+
+std::string Solver::presimulate(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+                                const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                std::vector<std::pair<std::string, double>>& presim, std::ostream* log) {
+  // Pre-simulation (§2.4): a few cycles at the first load increment with each candidate; the
+  // fastest wins. (The choice depends on timings; pin `colouring` for bit-reproducible runs
+  // across machines — the chosen name is logged and written to the outputs.) Each candidate is
+  // a solver of its own, dropped after timing: the run itself starts untouched.
+  Kokkos::Profiling::ScopedRegion pre("nacre::mc::presimulation");
+  const auto free = free_flags(s);
+  double best = std::numeric_limits<double>::max();
+  for (const auto& name : colouring_strategies()) {
+    const Colouring c = make_colouring(name, s, adj, free, d.seed);
+    Solver candidate(space, d, s, f, adj, c);
+    candidate.set_load(d.load.initial_step);
+    candidate.cycle();  // warm-up (first touch, instantiation)
+    space.fence("nacre::mc::presimulation");
+    // best of three blocks: the minimum is robust to a busy machine's interruptions
+    double per_cycle = std::numeric_limits<double>::max();
+    for (int rep = 0; rep < 3; ++rep) {
+      Kokkos::Timer timer;
+      for (int k = 0; k < d.solver.presim_cycles; ++k) candidate.cycle();
+      space.fence("nacre::mc::presimulation");
+      per_cycle = std::min(per_cycle, timer.seconds() / d.solver.presim_cycles);
+    }
+    presim.emplace_back(name, per_cycle);
+    if (log) *log << "  pre-simulation: colouring " << name << ", " << c.n_colours << " colours, "
+                  << per_cycle * 1e3 << " ms/cycle\n";
+    best = std::min(best, per_cycle);
+  }
+  // Timings within 15 % of the fastest count as a tie, won by the earliest candidate in the
+  // fixed list: machine noise then rarely flips the choice (and with it the run's result).
+  for (const auto& [name, sec] : presim)
+    if (sec <= 1.15 * best) return name;
+  return presim.front().first;
+}
+
 void Solver::allocate_work() {
-  u_ = rng::UniformTable<>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::mc::uniforms"), m_.n_free);
-  const auto n = static_cast<std::size_t>(m_.n_bricks);
-  prev_pose_ = Model<>::PoseView("nacre::mc::prev_pose", n);
-  save_pose_ = Model<>::PoseView("nacre::mc::save_pose", n);
-  phi_ = Field<double>("nacre::mc::phi", n);
-  de_ = Field<double>("nacre::mc::delta_energy", static_cast<std::size_t>(m_.n_free));
+  using Kokkos::view_alloc;
+  using Kokkos::WithoutInitializing;
+  const auto n = static_cast<std::size_t>(m_.n_bricks), nf = static_cast<std::size_t>(m_.n_free);
+  // Written before read each cycle / step: no initialisation pass.
+  u_ = rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
+  save_pose_ = Model<>::PoseView(view_alloc(space_, WithoutInitializing, "nacre::mc::save_pose"), n);
+  phi_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::phi"), n);
+  de_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::delta_energy"), nf);
+  // Read before first written (a checkpoint at step 0 stores the previous poses): zeroed.
+  prev_pose_ = Model<>::PoseView(view_alloc(space_, "nacre::mc::prev_pose"), n);
   brick_steps_ = {};
   if (deck_.solver.per_brick_steps) {
-    brick_steps_.step = decltype(brick_steps_.step)("nacre::mc::brick_step", m_.n_free);
-    brick_steps_.accepted = decltype(brick_steps_.accepted)("nacre::mc::brick_accepted", m_.n_free);
-    auto h = Kokkos::create_mirror_view(brick_steps_.step);
+    brick_steps_.step =
+        decltype(brick_steps_.step)(view_alloc(space_, WithoutInitializing, "nacre::mc::brick_step"), nf);
+    brick_steps_.accepted = decltype(brick_steps_.accepted)(view_alloc(space_, "nacre::mc::brick_accepted"), nf);
+    auto h = Kokkos::create_mirror_view(WithoutInitializing, brick_steps_.step);
     for (int b = 0; b < m_.n_free; ++b) h(b, 0) = deck_.solver.step, h(b, 1) = deck_.solver.rot_step;
-    Kokkos::deep_copy(brick_steps_.step, h);
+    Kokkos::deep_copy(space_, brick_steps_.step, h);
   }
+  space_.fence("nacre::mc::allocate_work");
 }
 
 void Solver::set_load(double D) {
   D_ = D;
-  apply_load(m_, pattern_, D);
+  apply_load(space_, m_, pattern_, D);
 }
 
 double Solver::energy() {
   Kokkos::Timer timer;
-  const double e = total_energy(m_, sum_ws_);
+  const double e = total_energy(space_, m_, sum_ws_);
   times_.energy += timer.seconds();
   return e;
 }
 
 double Solver::reaction() {
   const double D = D_;
-  const double h = 1e-6 * std::max({std::abs(D), m_.law[0].x1, m_.law[1].x1});
+  const double h = 1e-6 * std::max({std::abs(D), m_.laws[geometry::JointKind::bed].x1, m_.laws[geometry::JointKind::head].x1});
   set_load(D + h);
   const double ep = energy();
   set_load(D - h);
@@ -130,7 +154,7 @@ double Solver::reaction() {
 
 int Solver::ruptured() {
   Kokkos::Timer timer;
-  const int r = interface_state(m_, Field<double>(), Field<std::int8_t>());
+  const int r = interface_state(space_, m_, Field<double>(), Field<std::int8_t>());
   times_.energy += timer.seconds();
   return r;
 }
@@ -141,7 +165,7 @@ long Solver::cycle() {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::rng");
     auto streams = Kokkos::subview(m_.id, Kokkos::make_pair(0, m_.n_free));
     source_->fill(global_cycle_, streams, u_);
-    Kokkos::fence();
+    Kokkos::fence();  // the sources run on the default instance
   }
   times_.rng += timer.seconds();
   timer.reset();
@@ -151,10 +175,10 @@ long Solver::cycle() {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::sweep");
     const double T = deck_.solver.temperature;
     for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
-      accepted += sweep_colour(m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T,
+      accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T,
                                brick_steps_);
     auto d = de_;
-    de = deterministic_sum("nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
+    de = deterministic_sum(space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
                            KOKKOS_LAMBDA(const int b) { return d(b); });
   }
   times_.sweep += timer.seconds();
@@ -169,7 +193,7 @@ long Solver::cycle() {
   // restart with each load step), per brick or for the global pair
   if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0) {
     if (brick_steps_.active()) {
-      adapt_brick_steps(brick_steps_, m_.n_free, S.adapt_interval, S.min_step, S.max_step, S.min_rot_step,
+      adapt_brick_steps(space_, brick_steps_, m_.n_free, S.adapt_interval, S.min_step, S.max_step, S.min_rot_step,
                         S.max_rot_step);
     } else if (window_trials_ > 0) {
       const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
@@ -207,8 +231,8 @@ long Solver::relax(bool& converged) {
 
 void Solver::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
-  brick_energy(m_, phi_);
-  predict_poses(m_, prev_pose_, phi_, ratio);
+  brick_energy(space_, m_, phi_);
+  predict_poses(space_, m_, prev_pose_, phi_, ratio);
 }
 
 void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
@@ -230,7 +254,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     Kokkos::Timer timer;
     double inc_now = std::min(inc, final_d - D_);
     const double D0 = D_;
-    Kokkos::deep_copy(save_pose_, m_.pose);
+    Kokkos::deep_copy(space_, save_pose_, m_.pose);
     int reverts = 0;
     long cycles = 0;
     bool converged = false;
@@ -245,7 +269,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       cycle_limit_ = 0;
       if (may_revert && !converged && cycles >= static_cast<long>(c_u)) {
         // eq. 2.9: back to the last converged state, retry with a smaller increment
-        Kokkos::deep_copy(m_.pose, save_pose_);
+        Kokkos::deep_copy(space_, m_.pose, save_pose_);
         inc_now = std::max(L.min_step, inc_now * (2.0 / 3.0) * c_t / c_u);
         ++reverts;
         if (log_) *log_ << "  step " << step + 1 << ": no convergence in " << cycles
@@ -254,7 +278,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       }
       break;
     }
-    Kokkos::deep_copy(prev_pose_, save_pose_);
+    Kokkos::deep_copy(space_, prev_pose_, save_pose_);
     have_prev = true;
     inc_prev = inc_now;
     if (L.adaptive) inc = std::clamp(inc_now * c_t / std::max<long>(cycles, 1), L.min_step, L.max_step);
@@ -337,7 +361,7 @@ void Solver::restore(const Checkpoint& c) {
                              m_.colouring_name + "'");
   from_original_order(c.pose, m_.perm, m_.pose);
   from_original_order(c.previous_pose, m_.perm, prev_pose_);
-  refresh_frames(m_);
+  refresh_frames(space_, m_);
   if (brick_steps_.active() != !c.brick_step.empty())
     throw std::runtime_error("checkpoint and deck disagree on step_mode");
   if (brick_steps_.active()) {

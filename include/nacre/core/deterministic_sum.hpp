@@ -28,28 +28,40 @@ struct SumWorkspace {
   }
 };
 
-/// \brief sum_{i in [begin, end)} term(i), bit-identical for any thread count.
-template <class ExecutionSpace = ExecSpace, class Term>
-double deterministic_sum(const char* label, SumWorkspace<typename ExecutionSpace::memory_space>& ws,
+/// \brief sum_{i in [begin, end)} term(i), bit-identical for any thread count; runs on `space`
+/// (the host copy of the block sums waits for it).
+template <class ExecutionSpace, class MemorySpace, class Term>
+double deterministic_sum(const ExecutionSpace& space, const char* label, SumWorkspace<MemorySpace>& ws,
                          int begin, int end, const Term& term) {
+  static_assert(Kokkos::is_execution_space_v<ExecutionSpace>, "deterministic_sum: not an execution space");
+  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemorySpace>::accessible,
+                "deterministic_sum: workspace memory not accessible from the execution space");
   const int n = end - begin;
   if (n <= 0) return 0.0;
-  constexpr int B = SumWorkspace<>::kBlock;
+  constexpr int B = SumWorkspace<MemorySpace>::kBlock;
   ws.reserve(n);
   const int nb = (n + B - 1) / B;
   auto partial = ws.partial;
   Kokkos::parallel_for(
-      label, Kokkos::RangePolicy<ExecutionSpace>(0, nb), KOKKOS_LAMBDA(const int blk) {
+      label, Kokkos::RangePolicy<ExecutionSpace>(space, 0, nb), KOKKOS_LAMBDA(const int blk) {
         const int lo = begin + blk * B, hi = Kokkos::min(end, lo + B);
         double s = 0.0;
         for (int i = lo; i < hi; ++i) s += term(i);
         partial(blk) = s;
       });
-  Kokkos::deep_copy(Kokkos::subview(ws.host, Kokkos::make_pair(0, nb)),
+  Kokkos::deep_copy(space, Kokkos::subview(ws.host, Kokkos::make_pair(0, nb)),
                     Kokkos::subview(partial, Kokkos::make_pair(0, nb)));
+  space.fence("nacre::core::deterministic_sum");
   double total = 0.0;
   for (int b = 0; b < nb; ++b) total += ws.host(b);
   return total;
+}
+
+/// \brief The same on a default instance of ExecutionSpace.
+template <class ExecutionSpace = ExecSpace, class Term>
+double deterministic_sum(const char* label, SumWorkspace<typename ExecutionSpace::memory_space>& ws, int begin,
+                         int end, const Term& term) {
+  return deterministic_sum(ExecutionSpace{}, label, ws, begin, end, term);
 }
 
 }  // namespace nacre

@@ -51,8 +51,9 @@ struct Load {
   bool predictor = false;      ///< position predictor (eq. 2.10, 2.11)
 };
 
-/// \brief Monte Carlo solver.
-struct Solver {
+/// \brief Monte Carlo solver, the deck's [solver] table (named MonteCarlo so that it does not clash
+/// with mc::Solver or a second solver family's parameters).
+struct MonteCarlo {
   double temperature = 0.00075;  ///< TEMP
   double step = 0.001;           ///< InitialStepSize
   double min_step = 0.001;       ///< MinStepSize
@@ -91,7 +92,7 @@ struct Deck {
   Geometry geometry;
   Mortar mortar;
   Load load;
-  Solver solver;
+  MonteCarlo solver;  ///< [solver] (members are named after their TOML table)
   Output output;
   std::uint64_t seed = 1;
 };

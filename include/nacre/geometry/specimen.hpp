@@ -3,6 +3,7 @@
 /// \brief The brick-and-mortar specimen: a running-bond wall, rotated, clipped to the specimen
 /// rectangle and cut by the notch. Host-side construction; the solver uploads what it needs.
 #include <nacre/deck/deck.hpp>
+#include <nacre/geometry/joint_kind.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -25,9 +26,6 @@ struct Specimen {
   [[nodiscard]] std::size_t size() const { return cx.size(); }
   [[nodiscard]] int vertex_count(std::size_t i) const { return poly_offset[i + 1] - poly_offset[i]; }
 };
-
-/// \brief Interface kind: bed joints run along the rows, head joints join bricks of one row.
-enum class JointKind : std::uint8_t { bed = 0, head = 1 };
 
 /// \brief Interfaces (shared edge segments), structure of arrays. Brick a < brick b. The
 /// segment is stored in each brick's local frame (relative to its reference centroid), so the

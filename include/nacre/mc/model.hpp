@@ -2,7 +2,9 @@
 /// \file
 /// \brief Device-resident rigid-brick model: brick poses and interface geometry as Views, in
 /// sweep order (free bricks grouped by colour, each colour contiguous, then driven bricks).
-#include <nacre/cohesive/interface_energy.hpp>
+#include <nacre/cohesive/law_table.hpp>
+#include <nacre/cohesive/quadrature.hpp>
+#include <nacre/kinematics/rigid.hpp>
 #include <nacre/core/types.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/colouring.hpp>
@@ -11,8 +13,12 @@
 
 namespace nacre::mc {
 
-/// Columns of Model::seg, one per Segment field.
-enum SegCol : int { RA0X, RA0Y, RA1X, RA1Y, RB0X, RB0Y, RB1X, RB1Y, NX, NY, LEN, SEG_COLS };
+/// Columns of Model::seg, one per Segment field. Scoped: short names such as nx or length must
+/// not leak into nacre::mc, where a second model (or a loop variable) may want them.
+enum class SegCol : int { ra0x, ra0y, ra1x, ra1y, rb0x, rb0y, rb1x, rb1y, nx, ny, length, count };
+
+/// \brief Column index of a SegCol (for View access: seg(i, col(SegCol::length))).
+KOKKOS_INLINE_FUNCTION constexpr int col(SegCol c) { return static_cast<int>(c); }
 
 template <class MemorySpace = MemSpace>
 struct Model {
@@ -20,7 +26,7 @@ struct Model {
   using memory_space = MemorySpace;
 
   /// \brief Pose per brick: x, y, theta and, cached, sin(theta) and cos(theta) - 1 (a
-  /// cohesive::Frame). The sweep gathers ~6 neighbour poses per trial; with the rotation cached
+  /// kinematics::Frame). The sweep gathers ~6 neighbour poses per trial; with the rotation cached
   /// it needs 2 sines per trial (the proposal) instead of 16. Every writer goes through
   /// store_frame(). LayoutRight keeps a brick's five numbers together, so a gather touches one
   /// or two cache lines (CPU) / 32-byte sectors (GPU) instead of five.
@@ -38,10 +44,10 @@ struct Model {
   // brick by index, so an interface's 11 numbers should share two cache lines rather than sit
   // in 11 columns (LayoutLeft would coalesce only the rarely called loop over all interfaces).
   Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> ends;       ///< bricks a, b
-  Kokkos::View<double* [SEG_COLS], Kokkos::LayoutRight, MemorySpace> seg;
-  Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< 0 bed, 1 head (selects the law)
+  Kokkos::View<double* [col(SegCol::count)], Kokkos::LayoutRight, MemorySpace> seg;
+  Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< geometry::JointKind (bed or head): selects the law
 
-  cohesive::Law law[2];        ///< one law per joint kind, shared by all interfaces of the kind
+  cohesive::LawTable laws;     ///< one law per joint kind, shared by all interfaces of the kind
   cohesive::Quadrature quad;
 
   // ---- host-side bookkeeping
@@ -57,17 +63,19 @@ struct Model {
 };
 
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
-/// and uploads everything. Poses start at zero.
-Model<> build_model(const geometry::Specimen& s, const geometry::Interfaces& f,
+/// and uploads everything with `space` (fenced before returning). Poses start at zero.
+Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring,
                     const deck::Mortar& mortar, int quadrature_points);
 
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>
-KOKKOS_INLINE_FUNCTION cohesive::Segment load_segment(const SegView& seg, int i) {
-  return cohesive::Segment{seg(i, RA0X), seg(i, RA0Y), seg(i, RA1X), seg(i, RA1Y),
-                           seg(i, RB0X), seg(i, RB0Y), seg(i, RB1X), seg(i, RB1Y),
-                           seg(i, NX),   seg(i, NY),   seg(i, LEN)};
+KOKKOS_INLINE_FUNCTION kinematics::Segment load_segment(const SegView& seg, int i) {
+  using C = SegCol;
+  return kinematics::Segment{seg(i, col(C::ra0x)), seg(i, col(C::ra0y)), seg(i, col(C::ra1x)),
+                             seg(i, col(C::ra1y)), seg(i, col(C::rb0x)), seg(i, col(C::rb0y)),
+                             seg(i, col(C::rb1x)), seg(i, col(C::rb1y)), seg(i, col(C::nx)),
+                             seg(i, col(C::ny)),   seg(i, col(C::length))};
 }
 
 }  // namespace nacre::mc

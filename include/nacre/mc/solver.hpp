@@ -53,12 +53,20 @@ struct PhaseTimes {
   double rng = 0, sweep = 0, energy = 0, other = 0;
 };
 
+/// \brief The Monte Carlo solver on one execution-space instance: every kernel, allocation and
+/// copy of the run goes through `space()`. (The uniform sources run on the default instance.)
 class Solver {
 public:
   /// \brief Colours the bricks (running the pre-simulation when colouring = "auto") and uploads
   /// the model. `log` gets one line per decision (may be null).
+  Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+         const geometry::Interfaces& f, std::ostream* log = nullptr);
+  /// \brief The same on a default instance of the default execution space.
   Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-         std::ostream* log = nullptr);
+         std::ostream* log = nullptr)
+      : Solver(ExecSpace{}, d, s, f, log) {}
+
+  [[nodiscard]] const ExecSpace& space() const { return space_; }
 
   [[nodiscard]] const Model<>& model() const { return m_; }
   /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
@@ -102,12 +110,23 @@ public:
   void poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const;
 
 private:
+  /// \brief A solver on a given colouring (a pre-simulation candidate).
+  Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+         const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c);
+  /// \brief The pre-simulation (§2.4): each candidate colouring gets a fresh solver, timed for a
+  /// few cycles and thrown away; returns the colouring to use, appends timings to `presim`.
+  static std::string presimulate(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+                                 const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                 std::vector<std::pair<std::string, double>>& presim, std::ostream* log);
+  void setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
+             const Colouring& c);
   void allocate_work();
   void predict(double ratio);
 
+  ExecSpace space_;
   deck::Deck deck_;
   Model<> m_;
-  LoadPattern pattern_;
+  loading::Pattern pattern_;
   std::unique_ptr<rng::UniformSource> source_;
   rng::UniformTable<> u_;
   SumWorkspace<> sum_ws_;

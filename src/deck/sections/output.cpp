@@ -1,0 +1,17 @@
+// [output]: where and what a run writes.
+#include "../section.hpp"
+
+namespace nacre::deck::detail {
+
+void read_output(Section& top, Deck& d) {
+  Section o = top.sub("output");
+  auto& O = d.output;
+  o.string("directory", O.directory, {}, "a non-empty path");
+  o.integer("dump_interval", {"DumpInter"}, O.dump_interval, 0, 100000000, "a load-step count >= 0");
+  o.boolean("hdf5", O.hdf5);
+  o.boolean("charts", O.charts);
+  o.boolean("progress", O.progress);
+  o.reject_unknown({"directory", "dump_interval (DumpInter)", "hdf5", "charts", "progress"});
+}
+
+}  // namespace nacre::deck::detail
