@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <catch2/catch_test_macros.hpp>
+#include <catch2/generators/catch_generators.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -149,21 +150,41 @@ TEST_CASE("bie: the J^-1 apply variants give the same result to rounding", "[dyn
 
 TEST_CASE("bie: strain energy converges at second order in the step", "[dyn][bie]") {
   const auto st = make(wall(3, 4));
+  // undamped; mass-proportional damping (Table 4.2's alpha_d); the same with the force re-evaluated.
+  // (Table 4.2's beta_d makes the brick's highest modes overdamped far beyond 2 / h: implicit
+  // midpoint is not L-stable and lets them ring with factor ~ -1, so the asymptotic range starts
+  // only at h beta omega_max^2 < 2; docs/methods.md, "where BIE fails".)
+  const int mode = GENERATE(0, 1, 2);
   auto p = loaded(500, dyn::Method::bie);
+  if (mode > 0) p.alpha_d = 1.058e5;
+  p.bie_reuse_force = mode != 2;
   const double H = 8 * estimate(p, st);
   const double T = 256 * H;  // ramp and some vibration, elastic throughout
   p.ramp_time = 0.5 * T;
+  // strain-energy history at 8 times; error = max over them (one time alone can sit on a zero
+  // crossing of the error)
   auto run = [&](double h) {
     auto q = p;
     q.dt = h;
     dyn::Simulation sim(q, st.s, st.f, mortar());
-    REQUIRE(sim.advance(Exec{}, std::lround(T / h)));
+    std::vector<double> e;
+    const long n = std::lround(T / h);
+    for (int k = 1; k <= 8; ++k) {
+      REQUIRE(sim.advance(Exec{}, n / 8));
+      e.push_back(sim.energies().strain);
+    }
     REQUIRE(sim.ruptured() == 0);
-    return sim.energies().strain;
+    return e;
   };
-  const double ref = run(H / 32);
+  const auto refh = run(H / 32);
+  const double ref = refh.back();
   std::vector<double> hs{H, H / 2, H / 4}, err;
-  for (double h : hs) err.push_back(std::abs(run(h) - ref));
+  for (double h : hs) {
+    const auto e = run(h);
+    double m = 0;
+    for (std::size_t k = 0; k < e.size(); ++k) m = std::max(m, std::abs(e[k] - refh[k]));
+    err.push_back(m);
+  }
   // least-squares slope of log err against log h
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (std::size_t k = 0; k < hs.size(); ++k) {
@@ -172,7 +193,7 @@ TEST_CASE("bie: strain energy converges at second order in the step", "[dyn][bie
   }
   const double nk = static_cast<double>(hs.size());
   const double order = (nk * sxy - sx * sy) / (nk * sxx - sx * sx);
-  INFO("errors " << err[0] << " " << err[1] << " " << err[2] << " ref " << ref << " order " << order);
+  INFO("mode " << mode << " errors " << err[0] << " " << err[1] << " " << err[2] << " ref " << ref << " order " << order);
   CHECK(order > 1.8);
   CHECK(order < 2.2);
 }
@@ -194,8 +215,17 @@ TEST_CASE("bie: stable at 10x BE's critical step (ratio 500), BE is not", "[dyn]
   CHECK(e.strain > 0);
   CHECK(e.kinetic <= e.external_work);
   CHECK(std::abs(e.balance_residual) < 0.05);
-  CHECK(sim.bie_residual() < 1e-2);
   CHECK(sim.jacobian_condition() > 1);
+  // with the interface force re-evaluated at x_{n+1}: the same run, and what the neglected
+  // interface Jacobian leaves unconverged after two iterations is small
+  auto px = p;
+  px.bie_reuse_force = false;
+  dyn::Simulation sx(px, st.s, st.f, mortar());
+  REQUIRE(sx.advance(Exec{}, 4000));
+  INFO("newton residual " << sx.bie_residual() << " strain " << sx.energies().strain);
+  CHECK(sx.bie_residual() < 1e-2);
+  CHECK(sx.bie_residual() > 0);
+  CHECK(std::abs(sx.energies().strain - e.strain) <= 1e-9 * e.strain);  // C = 0: the same scheme
   // the same step is far beyond BE's critical step: the explicit method blows up and says so
   pb.dt = 10 * hbe;
   dyn::Simulation be(pb, st.s, st.f, mortar());

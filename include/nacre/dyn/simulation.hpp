@@ -56,6 +56,10 @@ struct Params {
   BieSolve bie_solve = BieSolve::shared_gemm;  ///< BIE: implementation of the J^-1 apply
   int bie_block = 4;                     ///< BIE reordered matvec: rows per block NB (2, 4, 5, 10)
   int bie_iterations = 2;                ///< BIE: Newton iterations per step with the constant J (eq. 4.6: 2)
+  /// BIE: true = the interface force of the last iterate's predecessor is kept for a_{n+1} (one
+  /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
+  /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.
+  bool bie_reuse_force = true;
 };
 
 /// \brief Energy bookkeeping at the current time (all in N*mm). The balance residual is
@@ -117,7 +121,8 @@ public:
   [[nodiscard]] double jacobian_condition() const;
   /// \brief BIE only (0 otherwise): relative residual of the last step after its last Newton
   /// iteration, sqrt(sum m |G_v|^2 / sum m |v_{n+1} - v_n|^2): what neglecting the interface
-  /// Jacobian left unconverged (small when BIE is accurate).
+  /// Jacobian left unconverged (small when BIE is accurate). Needs bie_reuse_force = false (with the
+  /// force kept from the previous iterate the last iteration is exact for it: 0 to rounding).
   [[nodiscard]] double bie_residual() const;
 
 private:
