@@ -238,16 +238,19 @@ struct History {
   double wall = 0;
   bool ok = true;
   double newton = 0;
+  double dt = 0;  ///< the step actually used (T / n, n a multiple of the samples, <= the one asked for)
 };
 History history(dyn::Params p, const Setup& st, double T, int samples) {
   History hst;
-  const long n = std::lround(T / p.dt);
+  // n a multiple of `samples`: every run samples the history at exactly the same times
+  const long n = samples * std::max(1L, static_cast<long>(std::ceil(T / p.dt / samples - 1e-9)));
   p.dt = T / static_cast<double>(n);
+  hst.dt = p.dt;
   dyn::Simulation sim(p, st.s, st.f, mortar());
   const auto t0 = Clock::now();
   long done = 0;
   for (int k = 1; k <= samples; ++k) {
-    const long target = n * k / samples;
+    const long target = n / samples * k;
     if (!sim.advance(Exec{}, target - done)) {
       hst.ok = false;
       break;
@@ -293,7 +296,7 @@ void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps,
       p.dt = 0.95 * h[k] * std::pow(0.5, l);
       const History a = history(p, st, T, samples);
       const History& own = k == 0 ? ref_ue : ref_be;
-      out << name(ms[k]) << "," << ratio << "," << st.s.size() << "," << p.dt << "," << p.dt / h[k] << "," << T << ","
+      out << name(ms[k]) << "," << ratio << "," << st.s.size() << "," << a.dt << "," << a.dt / h[k] << "," << T << ","
           << a.wall << "," << history_error(a, own) << "," << history_error(a, ref_be) << ","
           << (a.strain.empty() ? 0.0 : a.strain.back()) << "," << a.ok << "," << a.newton << "\n";
       out.flush();
@@ -319,7 +322,7 @@ void fail(long bricks, const std::string& ratios, long crit_steps, double T_in_b
       const History a = history(p, st, T, 16);
       p.bie_reuse_force = false;  // interface force re-evaluated at x_{n+1}: the Newton residual is measured
       const History x = history(p, st, T, 16);
-      out << r << "," << st.s.size() << "," << p.dt << "," << f << "," << p.dt / hbie << "," << a.ok << ","
+      out << r << "," << st.s.size() << "," << a.dt << "," << a.dt / hbe << "," << a.dt / hbie << "," << a.ok << ","
           << history_error(a, ref) << "," << x.newton << "," << a.wall << "," << x.ok << "," << history_error(x, ref)
           << "\n";
       out.flush();
