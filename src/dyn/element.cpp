@@ -1,5 +1,6 @@
 // Element library: CST matrices and bolting (see include/nacre/dyn/element.hpp for the why).
 #include <nacre/dyn/element.hpp>
+#include <nacre/dyn/model.hpp>
 
 #include <stdexcept>
 #include <string>
@@ -101,6 +102,14 @@ Eigen::Vector3d cst_stress(const Cst& c, const Eigen::Matrix3d& D, const double*
   eps(0) -= eps_th;
   eps(1) -= eps_th;
   return D * eps;
+}
+
+void triangle_stress(const double x[3], const double y[3], const double u[6], double E, double nu,
+                     double eps_th, double sig[3], double& area) {
+  const Cst c = cst({x[0], x[1], x[2]}, {y[0], y[1], y[2]});
+  const Eigen::Vector3d s = cst_stress(c, plane_stress(E, nu), u, eps_th);
+  sig[0] = s(0), sig[1] = s(1), sig[2] = s(2);
+  area = c.area;
 }
 
 }  // namespace nacre::dyn

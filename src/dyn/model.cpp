@@ -53,15 +53,16 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   const int nb = static_cast<int>(s.size());
   Model<> m;
   m.h = p.dt, m.alpha = p.alpha_d, m.beta = p.beta_d, m.thickness = p.thickness, m.eps_th = p.thermal_strain;
-  m.tension = p.tension, m.bending = p.bending, m.width = s.width > 0 ? s.width : 1.0;
+  m.pattern = loading::Pattern{p.tension, p.bending, s.width > 0 ? s.width : 1.0};
   m.top_prescribed = p.force_top == 0.0;
   m.brick_height = whole_brick_height(s);
-  m.quad = cohesive::gauss_legendre(4);
-  m.law[kBed] = mortar.bed;
-  m.law[kHead] = mortar.head;
+  if (p.quadrature_points < 1 || p.quadrature_points > 8)
+    throw std::invalid_argument("dyn: quadrature_points must be 1..8");
+  m.quad = cohesive::gauss_legendre(p.quadrature_points);
   // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),
   // so they tie the triangles as in §4.4 and cannot rupture.
-  m.law[kInternal] = cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6};
+  m.laws = cohesive::make_law_table(
+      mortar.bed, mortar.head, cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
 
   // ---- elements and their types
   const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300));
@@ -224,7 +225,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     r.a = locate(f.a[i], f.ra0x[i], f.ra0y[i], f.ra1x[i], f.ra1y[i], static_cast<int>(i));
     r.b = locate(f.b[i], f.rb0x[i], f.rb0y[i], f.rb1x[i], f.rb1y[i], static_cast<int>(i));
     r.nx = f.nx[i], r.ny = f.ny[i], r.len = f.length[i];
-    r.kind = f.kind[i] == geometry::JointKind::bed ? kBed : kHead;
+    r.kind = static_cast<std::uint8_t>(f.kind[i]);
     rec.push_back(r);
   }
   m.n_mortar = static_cast<int>(rec.size());
@@ -240,7 +241,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         r.a = Side{map.brick_elem[b] + (j + n - 1) % n, 0, 2, 0.0, 1.0};
         r.b = Side{map.brick_elem[b] + j, 0, 1, 0.0, 1.0};
         r.nx = -poly_y[b][j] / l, r.ny = poly_x[b][j] / l, r.len = l;
-        r.kind = kInternal;
+        r.kind = static_cast<std::uint8_t>(geometry::JointKind::internal);
         rec.push_back(r);
       }
     }
@@ -288,7 +289,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
     const auto q = cohesive::gauss_legendre(2);  // N N^T is quadratic in s: exact
     for (const auto& r : rec) {
-      const double klt = m.law[r.kind].k * r.len * p.thickness;
+      const double klt = m.laws[r.kind].k * r.len * p.thickness;
       int el[4] = {r.a.elem, r.a.elem, r.b.elem, r.b.elem}, nn[4] = {r.a.n0, r.a.n1, r.b.n0, r.b.n1};
       double c[4][4] = {};
       for (int g = 0; g < q.n; ++g) {

@@ -13,12 +13,9 @@
 // failure the chunk is replayed step by step from a copy, so the state is left at the last good
 // step (the run is deterministic, the replay takes the same path).
 #include <nacre/dyn/bie.hpp>
-#include <nacre/dyn/element.hpp>
 #include <nacre/dyn/kernels.hpp>
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/simulation.hpp>
-
-#include "load.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -43,6 +40,8 @@ struct Simulation::Impl {
   AccView<Mem> acc, acc0;
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
+  loading::Ramp ramp;
+  Exec space;  ///< instance the run's kernels go to (set by advance)
   long step = 0;
   double e_ref = 0;
   std::string why;
@@ -82,16 +81,16 @@ struct Simulation::Impl {
   /// Driven elements at their prescribed values for time t (no step taken).
   void impose(const Exec& space, double t) {
     auto it = integrator();
-    const Opening o = opening(p, t);
-    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    const loading::Opening o = ramp(t);
+    it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     impose_drive(space, it, m.n_elem);
     space.fence();
   }
 
   void step_once(const Exec& space) {
-    const Opening o = opening(p, time_at(step + 1));
+    const loading::Opening o = ramp(time_at(step + 1));
     auto it = integrator();
-    it.D = o.D, it.Dd = o.Dd, it.Ddd = o.Ddd;
+    it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     if (is_bie()) {
       auto bi = bie_integrator();
       bi.ex = it;
@@ -112,13 +111,13 @@ struct Simulation::Impl {
     Kokkos::deep_copy(space, acc, acc0);
   }
 
-  double sum_acc(int col) { return column_sum(Exec{}, ws, acc, col, m.n_elem); }
+  double sum_acc(int col) { return column_sum(space, ws, acc, col, m.n_elem); }
   double kinetic(bool free_only, bool poison) {
-    return element_sum(Exec{}, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
+    return element_sum(space, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
                        m.n_elem);
   }
-  double strain() { return element_sum(Exec{}, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
-  double cohesive() { return cohesive_energy(Exec{}, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
+  double strain() { return element_sum(space, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
+  double cohesive() { return cohesive_energy(space, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
 
   /// True when the state is finite and below the kinetic-energy bound; else fills `why`.
   bool healthy() {
@@ -148,6 +147,8 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;
   I.p = p;
+  I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
+                         p.ramp_time, p.final_displacement};
   I.n_bricks = s.size();
   I.m = build_model(p, s, f, mortar, I.map);
   if (I.is_bie()) {
@@ -180,6 +181,7 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
   auto& I = *impl_;
+  I.space = space;
   long done = 0;
   while (done < n) {
     const long chunk = std::min<long>(kCheckEvery, n - done);
@@ -214,7 +216,7 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
 const std::string& Simulation::why() const { return impl_->why; }
 double Simulation::time() const { return impl_->time_at(impl_->step); }
 long Simulation::steps() const { return impl_->step; }
-double Simulation::displacement() const { return opening(impl_->p, time()).D; }
+double Simulation::displacement() const { return impl_->ramp.displacement(time()); }
 
 Energies Simulation::energies() const {
   auto& I = *impl_;
@@ -236,7 +238,7 @@ double Simulation::reaction() const { return impl_->sum_acc(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
-  return count_ruptured(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+  return count_ruptured(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
 }
 
 Snapshot Simulation::snapshot() const {
@@ -267,29 +269,26 @@ Snapshot Simulation::snapshot() const {
   s.tri_sxx.resize(ntri), s.tri_syy.resize(ntri), s.tri_sxy.resize(ntri);
   s.brick_syy.assign(I.n_bricks, 0.0);
   std::vector<double> barea(I.n_bricks, 0.0);
-  const Eigen::Matrix3d D = plane_stress(I.p.youngs_modulus, I.p.poisson);
   for (std::size_t k = 0; k < ntri; ++k) {
     const int e = M.tri_elem[k], t = M.elem_type[e], b = M.tri_brick[k];
-    std::array<double, 3> x{}, y{};
-    double ue[6];
+    double x[3], y[3], ue[6], sig[3], area;
     for (int c = 0; c < 3; ++c) {
       const int j = M.tri_local[k][c];
       s.tri[3 * k + c] = node0[e] + j;
       x[c] = M.type_x[t * kMaxNodes + j], y[c] = M.type_y[t * kMaxNodes + j];
       ue[2 * c] = hu(e, 2 * j), ue[2 * c + 1] = hu(e, 2 * j + 1);
     }
-    const Cst c = cst(x, y);
-    const Eigen::Vector3d sig = cst_stress(c, D, ue, I.p.thermal_strain);
+    triangle_stress(x, y, ue, I.p.youngs_modulus, I.p.poisson, I.p.thermal_strain, sig, area);
     s.tri_brick[k] = b;
-    s.tri_sxx[k] = sig(0), s.tri_syy[k] = sig(1), s.tri_sxy[k] = sig(2);
-    s.brick_syy[b] += sig(1) * c.area, barea[b] += c.area;
+    s.tri_sxx[k] = sig[0], s.tri_syy[k] = sig[1], s.tri_sxy[k] = sig[2];
+    s.brick_syy[b] += sig[1] * area, barea[b] += area;
   }
   for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
   // interface damage (bed/head only)
   const int nm = I.m.n_mortar;
   Kokkos::View<double*> dmg("nacre::dyn::damage", std::max(nm, 1));
   Kokkos::View<int*> st("nacre::dyn::damage_state", std::max(nm, 1));
-  interface_damage(Exec{}, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
+  interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
   s.iface_damage.assign(hd.data(), hd.data() + nm);

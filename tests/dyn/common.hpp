@@ -53,3 +53,70 @@ inline Setup make(const deck::Geometry& g) {
 }
 
 }  // namespace dyntest
+
+#include <nacre/dyn/kernels.hpp>
+
+#include <Eigen/Dense>
+
+namespace dyntest {
+
+/// omega^2 of the linearised undamped system (elastic
+/// interfaces: energy 1/2 k |jump|^2, Hessian k I), free elements only, assembled on the host
+/// from the model's own tables (elements + every interface of the model, UE's joints included);
+/// the exact explicit critical step is 2 / omega_max.
+inline Eigen::VectorXd linear_spectrum(dyn::Params p, const Setup& st, const deck::Mortar& mo) {
+  dyn::HostMap map;
+  p.dt = 1.0;  // (the step enters only (M + h/2 C)^-1, not used here)
+  auto m = dyn::build_model(p, st.s, st.f, mo, map);
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);
+  auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
+  auto E = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ielem);
+  auto N = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.inode);
+  auto XI = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ixi);
+  auto L = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ilen);
+  auto KK = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ikind);
+  auto D = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.drive);
+  // global dof numbering of the free, active dofs
+  std::vector<int> id(static_cast<std::size_t>(m.n_elem) * m.nd, -1);
+  int n = 0;
+  for (int e = 0; e < m.n_elem; ++e)
+    if (D(e) == 0)
+      for (int d = 0; d < 2 * map.type_nodes[map.elem_type[e]]; ++d) id[e * m.nd + d] = n++;
+  Eigen::MatrixXd Kg = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd Mg(n);
+  for (int e = 0; e < m.n_elem; ++e) {
+    const int t = map.elem_type[e];
+    for (int i = 0; i < m.nd; ++i) {
+      const int I = id[e * m.nd + i];
+      if (I < 0) continue;
+      Mg(I) = M(t, i);
+      for (int j = 0; j < m.nd; ++j)
+        if (id[e * m.nd + j] >= 0) Kg(I, id[e * m.nd + j]) += K(t, i, j);
+    }
+  }
+  const auto q = cohesive::gauss_legendre(4);
+  for (int i = 0; i < m.n_iface; ++i) {
+    const double klt = m.laws[KK(i)].k * L(i) * p.thickness;
+    for (int g = 0; g < q.n; ++g) {
+      const double xa = XI(i, 0) + q.s[g] * (XI(i, 1) - XI(i, 0)), xb = XI(i, 2) + q.s[g] * (XI(i, 3) - XI(i, 2));
+      const double Nn[4] = {-(1 - xa), -xa, 1 - xb, xb};
+      for (int c = 0; c < 2; ++c)
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b) {
+            const int I = id[E(i, a / 2) * m.nd + 2 * N(i, a) + c], J = id[E(i, b / 2) * m.nd + 2 * N(i, b) + c];
+            if (I >= 0 && J >= 0) Kg(I, J) += q.w[g] * klt * Nn[a] * Nn[b];
+          }
+    }
+  }
+  const Eigen::VectorXd mis = Mg.cwiseInverse().cwiseSqrt();
+  const Eigen::MatrixXd S = mis.asDiagonal() * Kg * mis.asDiagonal();
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues();  // omega^2, ascending
+}
+inline double exact_critical_step(const dyn::Params& p, const Setup& st, const deck::Mortar& mo) {
+  return 2.0 / std::sqrt(linear_spectrum(p, st, mo).maxCoeff());
+}
+
+/// Index of dof d of element e in the flattened state arrays (LayoutLeft: element fastest).
+inline std::size_t at(int ne, int e, int d) { return static_cast<std::size_t>(e) + static_cast<std::size_t>(ne) * d; }
+
+}  // namespace dyntest

@@ -69,14 +69,17 @@ TEST_CASE("dyn: save_state / restore_state continue bit for bit", "[dyn][restart
 }
 
 TEST_CASE("dyn: element types are shared; bytes per brick with and without sharing", "[dyn][memory]") {
-  const auto st = make(wall(8, 8));
+  const auto st = make(wall(20, 60, 8));  // 20 bricks x 60 rows, notch 8 bricks long
   for (auto method : {dyn::Method::be, dyn::Method::ue}) {
     auto p = params(50, method);
     p.dt = 1e-9;
     dyn::Simulation shared(p, st.s, st.f, mortar());
     p.share_element_matrices = false;
     dyn::Simulation own(p, st.s, st.f, mortar());
-    INFO("types " << shared.element_types() << " bricks " << st.s.size());
+    const double n = static_cast<double>(st.s.size());
+    INFO("method " << (method == dyn::Method::be ? "BE" : "UE") << ": " << st.s.size() << " bricks, "
+                   << shared.element_types() << " types; bytes per brick shared " << shared.bytes() / n
+                   << ", per element " << own.bytes() / n);
     CHECK(shared.element_types() < static_cast<int>(st.s.size()));
     CHECK(own.element_types() == static_cast<int>(method == dyn::Method::be ? st.s.size() : 4 * st.s.size()));
     CHECK(shared.bytes() < own.bytes());

@@ -44,15 +44,13 @@ struct InterfaceOp {
   Kokkos::View<const std::uint8_t*, MemorySpace> ikind;
   Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> u;
   IforceView<MemorySpace> out;
-  cohesive::Law law[kKinds];
+  cohesive::LawTable laws;
   cohesive::Quadrature quad;
   double thickness;
 
   InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
       : ielem(m.ielem), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
-        u(u_), out(out_), quad(m.quad), thickness(m.thickness) {
-    for (int k = 0; k < kKinds; ++k) law[k] = m.law[k];
-  }
+        u(u_), out(out_), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
 
   /// Nodal displacements of the two edges: q = (a0x a0y a1x a1y b0x b0y b1x b1y).
   KOKKOS_INLINE_FUNCTION void load(int i, double q[8]) const {
@@ -80,7 +78,7 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = law[ikind(i)];
+    const cohesive::Law& m = laws[ikind(i)];
     const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
     double e = 0;
     if (f)
@@ -89,10 +87,10 @@ struct InterfaceOp {
       double dn, dt, xa, xb;
       jump(i, q, quad.s[p], dn, dt, xa, xb);
       const double wl = quad.w[p] * lt;
-      e += wl * cohesive::energy_density(m, dn, dt);
+      e += wl * m(cohesive::EnergyTag{}, dn, dt);
       if (f) {
         double fn, ft;
-        cohesive::traction(m, dn, dt, fn, ft);
+        m(cohesive::TractionTag{}, dn, dt, fn, ft);
         const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
         f[0] += (1 - xa) * tx, f[1] += (1 - xa) * ty, f[2] += xa * tx, f[3] += xa * ty;
         f[4] -= (1 - xb) * tx, f[5] -= (1 - xb) * ty, f[6] -= xb * tx, f[7] -= xb * ty;
@@ -114,7 +112,7 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = law[ikind(i)];
+    const cohesive::Law& m = laws[ikind(i)];
     double dmax = 0, dmin = 1e300;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
@@ -123,7 +121,7 @@ struct InterfaceOp {
       dmax = Kokkos::max(dmax, d), dmin = Kokkos::min(dmin, d);
     }
     dmg = Kokkos::min(1.0, Kokkos::max(0.0, (dmax - m.x1) / m.x2));
-    state = dmin >= m.x1 + m.x2 ? 2 : (dmax > m.x1 ? 1 : 0);
+    state = dmin >= m.rupture_distance() ? 2 : (dmax > m.x1 ? 1 : 0);
   }
 };
 
@@ -145,7 +143,8 @@ struct Integrator {
   AccView<MemorySpace> acc;
   int nd;
   bool has_fp;
-  double h, alpha, beta, tension, bending, width;
+  double h, alpha, beta;
+  loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
 
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
@@ -153,16 +152,17 @@ struct Integrator {
       : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), drive(m.drive), inode(m.inode),
         cx(m.cx), cy(m.cy), K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x),
         node_y(m.node_y), iforce(f_), u(u_), v(v_), a(a_), acc(acc_), nd(m.nd), has_fp(m.fp.extent(0) > 0),
-        h(m.h), alpha(m.alpha), beta(m.beta), tension(m.tension), bending(m.bending), width(m.width) {}
+        h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
-  /// Prescribed displacement per unit opening of node j of element e: the rigid deck's pattern
-  /// u_y = side/2 [tension + bending (1 - x/W)] and the matching small rotation of the brick
-  /// about its centroid, u_x = side bending / (2 W) (y - cy): driven bricks move rigidly.
+  /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
+  /// displacement at the node (u_y = side/2 [tension + bending (1 - x/W)]) plus the small
+  /// rotation of the brick about its centroid that matches the pattern's slope,
+  /// u_x = -slope (y - cy): driven bricks move rigidly (as the rigid deck's pose).
   KOKKOS_INLINE_FUNCTION void pattern(int e, int t, int j, double& px, double& py) const {
-    const double side = drive(e);
-    const double x = cx(e) + node_x(t, j), ry = node_y(t, j);
-    py = 0.5 * side * (tension + bending * (1.0 - x / width));
-    px = 0.5 * side * bending / width * ry;
+    const int side = drive(e);
+    const double ry = node_y(t, j);
+    load.displacement(side, cx(e) + node_x(t, j), cy(e) + ry, 1.0, px, py);
+    px -= load.slope(side, 1.0) * ry;
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(InitialTag, int e) const {
@@ -334,24 +334,25 @@ void interface_forces(const ExecutionSpace& space, const InterfaceOp<MemOf<Execu
 
 /// \brief Sum of one accumulator column over the elements (deterministic).
 template <class ExecutionSpace>
-double column_sum(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws,
+double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws,
                   const AccView<MemOf<ExecutionSpace>>& acc, int col, int n_elem) {
-  return deterministic_sum<ExecutionSpace>("nacre::dyn::sum_acc", ws, 0, n_elem,
+  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n_elem,
                                            KOKKOS_LAMBDA(const int e) { return acc(e, col); });
 }
 
 /// \brief Total cohesive energy (deterministic).
 template <class ExecutionSpace>
-double cohesive_energy(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws,
+double cohesive_energy(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws,
                        const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
-  return deterministic_sum<ExecutionSpace>("nacre::dyn::cohesive_energy", ws, 0, n_iface,
+  return deterministic_sum(space, "nacre::dyn::cohesive_energy", ws, 0, n_iface,
                                            KOKKOS_LAMBDA(const int i) { return op.energy(i); });
 }
 
 /// \brief Sum of a per-element term functor (strain or kinetic energy), deterministic.
 template <class ExecutionSpace, class Term>
-double element_sum(const ExecutionSpace&, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term, int n_elem) {
-  return deterministic_sum<ExecutionSpace>("nacre::dyn::element_sum", ws, 0, n_elem, term);
+double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term,
+                   int n_elem) {
+  return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, term);
 }
 
 /// \brief acc(e, kWork) = term(e) (the work of an impulsive start).

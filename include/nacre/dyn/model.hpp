@@ -14,10 +14,13 @@
 /// are [type][row][col], LayoutLeft too: with sharing, threads of a warp read one or a few types
 /// (broadcast from cache); without sharing (one type per element), type index = element index
 /// and the same layout coalesces.
-#include <nacre/cohesive/law.hpp>
+#include <nacre/cohesive/law_table.hpp>
 #include <nacre/cohesive/quadrature.hpp>
 #include <nacre/core/types.hpp>
 #include <nacre/dyn/simulation.hpp>
+#include <nacre/geometry/joint_kind.hpp>
+#include <nacre/loading/pattern.hpp>
+#include <nacre/loading/ramp.hpp>
 
 #include <cstdint>
 #include <string>
@@ -28,9 +31,6 @@ namespace nacre::dyn {
 /// Largest element: a bolted 7-gon (centre + 7 corners). Clipped rectangles have at most 6 sides.
 inline constexpr int kMaxNodes = 8;
 inline constexpr int kMaxDof = 2 * kMaxNodes;
-
-/// Interface kinds: the two mortar kinds of the geometry, then UE's stiff internal joints.
-enum IfaceKind : std::uint8_t { kBed = 0, kHead = 1, kInternal = 2, kKinds = 3 };
 
 template <class MemorySpace = MemSpace>
 struct Model {
@@ -63,13 +63,13 @@ struct Model {
   Kokkos::View<std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;  ///< local nodes a0 a1 b0 b1
   Kokkos::View<double* [4], Kokkos::LayoutLeft, MemorySpace> ixi;         ///< edge parameter of the segment ends a0 a1 b0 b1
   Field<double, MemorySpace> inx, iny, ilen;
-  Kokkos::View<std::uint8_t*, MemorySpace> ikind;
-  cohesive::Law law[kKinds];
+  Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< geometry::JointKind (bed, head, internal)
+  cohesive::LawTable laws;  ///< one law per joint kind
   cohesive::Quadrature quad;
 
   // ---- run constants
   double h = 0, alpha = 0, beta = 0, thickness = 1, eps_th = 0;
-  double tension = 0, bending = 0, width = 1;  ///< load pattern
+  loading::Pattern pattern;                    ///< prescribed displacement of the driven edges
   bool top_prescribed = true;                  ///< false when force_top loads the top instead
   double brick_height = 0;                     ///< height of a whole brick (internal joints, docs)
   double step_estimate = 0;  ///< 2 / sqrt(Gershgorin bound of M^-1 K_lin): a safe step, start of the bisection
@@ -89,6 +89,12 @@ struct HostMap {
 /// \brief Build the model of `p.method` for a specimen (host assembly, then upload).
 Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const deck::Mortar& mortar, HostMap& map);
+
+/// \brief Cauchy stress (xx, yy, xy) of a CST with nodes (x, y), CCW, nodal displacements u
+/// (6), plane stress E, nu, isotropic eigenstrain eps_th (host; element.cpp). Plain arrays so
+/// that the kernel sources stay free of Eigen (nvcc warns on Eigen's headers).
+void triangle_stress(const double x[3], const double y[3], const double u[6], double E, double nu,
+                     double eps_th, double sig[3], double& area);
 
 /// \brief Bytes held by the model's views.
 std::size_t model_bytes(const Model<>& m);

@@ -60,6 +60,7 @@ struct Params {
   /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
   /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.
   bool bie_reuse_force = true;
+  int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
 };
 
 /// \brief Energy bookkeeping at the current time (all in N*mm). The balance residual is

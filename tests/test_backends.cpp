@@ -1,0 +1,195 @@
+// The Monte Carlo kernels, written once, run on every enabled host backend (tests/backends.hpp)
+// and must leave the same bits as on the default execution space: energies, rupture counts,
+// and the poses after a series of colour sweeps with fixed uniforms. The deterministic sum and
+// the cohesive law are checked the same way. (Which backends ran is printed by the first test.)
+#include "backends.hpp"
+
+#include <nacre/cohesive/segment.hpp>
+#include <nacre/loading/pattern.hpp>
+#include <nacre/mc/kernels.hpp>
+#include <nacre/mc/model.hpp>
+
+#include <catch2/catch_approx.hpp>
+#include <catch2/catch_template_test_macros.hpp>
+#include <catch2/catch_test_macros.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <vector>
+
+using namespace nacre;
+
+namespace {
+
+deck::Deck backend_deck() {
+  deck::Deck d;
+  d.geometry.width = 21.0, d.geometry.height = 8.0;
+  d.geometry.brick_width = 3.5, d.geometry.brick_height = 1.0;
+  d.geometry.notch_length = 8.0, d.geometry.notch_y = 4.0;
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  d.load.tension = 1.0, d.load.bending = 0.5;
+  return d;
+}
+
+/// What a backend leaves after the kernel sequence below (compared bit for bit).
+struct Result {
+  std::vector<double> pose;                  ///< n x 5 (with the cached rotation)
+  std::vector<double> energies;              ///< total energy after each stage
+  std::vector<double> brick_energy;          ///< per brick, final
+  std::vector<double> iface_energy;          ///< per interface, final
+  std::vector<std::int8_t> iface_state;
+  std::vector<long> accepted;                ///< per sweep
+  int ruptured = 0;
+};
+
+/// Load, then `cycles` cycles of colour sweeps with uniforms from a seeded host generator (the
+/// same table for every backend), then the energy kernels; everything on `space`.
+template <class ExecutionSpace>
+Result run_kernels(const ExecutionSpace& space, int cycles) {
+  const auto d = backend_deck();
+  auto s = geometry::build_specimen(d.geometry);
+  const auto f = geometry::find_interfaces(s, d.geometry);
+  const auto adj = geometry::build_adjacency(s.size(), f);
+  std::vector<bool> free(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) free[i] = s.drive[i] == geometry::Drive::free;
+  const auto c = mc::colour_graph("tiles", s, adj, free, 1);
+  auto m = mc::build_model(ExecSpace{}, s, f, adj, c, d.mortar, 4);
+  using MS = typename decltype(m)::memory_space;
+  const loading::Pattern lp{d.load.tension, d.load.bending, d.geometry.width};
+  SumWorkspace<MS> ws;
+  Result r;
+  mc::apply_load(space, m, lp, 0.01);
+  r.energies.push_back(mc::total_energy(space, m, ws));
+  rng::UniformTable<MS> u(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::test::u"), m.n_free);
+  Field<double, MS> de(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::test::de"), m.n_free);
+  auto hu = Kokkos::create_mirror_view(u);
+  std::mt19937_64 gen(2017);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int cyc = 0; cyc < cycles; ++cyc) {
+    for (int b = 0; b < m.n_free; ++b)
+      for (int k = 0; k < 4; ++k) hu(b, k) = U(gen);
+    Kokkos::deep_copy(space, u, hu);
+    for (std::size_t col = 0; col + 1 < m.colour_tiles.size(); ++col)
+      r.accepted.push_back(mc::sweep_colour(space, m, m.colour_tiles[col], m.colour_tiles[col + 1], u, de, 2e-4,
+                                            1e-4, 1e-7));
+    auto dv = de;
+    r.energies.push_back(deterministic_sum(space, "nacre::test::sum_de", ws, 0, m.n_free,
+                                           KOKKOS_LAMBDA(const int b) { return dv(b); }));
+    r.energies.push_back(mc::total_energy(space, m, ws));
+  }
+  Field<double, MS> be("nacre::test::brick_energy", m.n_bricks), ie("nacre::test::iface_energy", m.n_interfaces);
+  Field<std::int8_t, MS> is("nacre::test::iface_state", m.n_interfaces);
+  mc::brick_energy(space, m, be);
+  r.ruptured = mc::interface_state(space, m, ie, is);
+  space.fence();
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.pose);
+  auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
+  auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
+  auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
+  for (int b = 0; b < m.n_bricks; ++b)
+    for (int k = 0; k < 5; ++k) r.pose.push_back(hp(b, k));
+  r.brick_energy.assign(hbe.data(), hbe.data() + hbe.extent(0));
+  r.iface_energy.assign(hie.data(), hie.data() + hie.extent(0));
+  r.iface_state.assign(his.data(), his.data() + his.extent(0));
+  return r;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+}  // namespace
+
+TEMPLATE_LIST_TEST_CASE("mc kernels leave the same bits on every host backend", "[mc][backends]",
+                        test::HostBackends) {
+  using Space = TestType;
+  if constexpr (!Kokkos::SpaceAccessibility<Space, MemSpace>::accessible) {
+    SKIP("the model's memory space is not accessible from " << Space::name());
+  } else {
+    std::cout << "nacre backends test: " << Space::name() << " (enabled host backends: "
+              << test::host_backend_names() << ")\n";
+    const int cycles = 30;
+    const Result ref = run_kernels(ExecSpace{}, cycles);
+    const Result got = run_kernels(Space{}, cycles);
+    // the run did something: trials were accepted and the energy moved
+    long acc = 0;
+    for (long a : got.accepted) acc += a;
+    CHECK(acc > 0);
+    REQUIRE(got.energies.size() == ref.energies.size());
+    CHECK(got.energies.back() != got.energies.front());
+    // energy bookkeeping inside the run: E(after cycle) - E(before) = sum of accepted changes
+    for (int c = 0; c < cycles; ++c) {
+      const double before = got.energies[2 * c], delta = got.energies[2 * c + 1], after = got.energies[2 * c + 2];
+      CHECK(after - before == Catch::Approx(delta).margin(1e-12 * std::abs(after)));
+    }
+    CHECK(same_bits(got.pose, ref.pose));
+    CHECK(same_bits(got.energies, ref.energies));
+    CHECK(same_bits(got.brick_energy, ref.brick_energy));
+    CHECK(same_bits(got.iface_energy, ref.iface_energy));
+    CHECK(same_bits(got.iface_state, ref.iface_state));
+    CHECK(got.accepted == ref.accepted);
+    CHECK(got.ruptured == ref.ruptured);
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("deterministic_sum adds in fixed blocks on every host backend", "[core][backends]",
+                        test::HostBackends) {
+  using Space = TestType;
+  const int n = 1000;  // 8 blocks of 128, the last one partial
+  SumWorkspace<typename Space::memory_space> ws;
+  auto term = KOKKOS_LAMBDA(const int i) { return 1.0 / (1.0 + i) * ((i % 3) ? 1.0 : -1e3); };
+  double expect = 0.0;
+  for (int b0 = 0; b0 < n; b0 += SumWorkspace<>::kBlock) {
+    double s = 0.0;
+    for (int i = b0; i < std::min(n, b0 + SumWorkspace<>::kBlock); ++i) s += term(i);
+    expect += s;
+  }
+  const double got = deterministic_sum(Space{}, "nacre::test::blocked_sum", ws, 0, n, term);
+  CHECK(std::memcmp(&got, &expect, sizeof got) == 0);
+  CHECK(deterministic_sum(Space{}, "nacre::test::empty_sum", ws, 5, 5, term) == 0.0);
+}
+
+TEMPLATE_LIST_TEST_CASE("the cohesive law and the load pattern run inside kernels of every host backend",
+                        "[cohesive][loading][backends]", test::HostBackends) {
+  using Space = TestType;
+  using MS = typename Space::memory_space;
+  const cohesive::Law law{100.0, 0.01, 0.03};
+  const cohesive::Quadrature q = cohesive::gauss_legendre(4);
+  const loading::Pattern lp{1.0, 0.5, 20.0};
+  const int n = 257;
+  Kokkos::View<double* [7], MS> out("nacre::test::law_out", n);
+  Kokkos::parallel_for(
+      "nacre::test::law", Kokkos::RangePolicy<Space>(Space{}, 0, n), KOKKOS_LAMBDA(const int i) {
+        const double g = -0.02 + 0.08 * i / (n - 1);  // through penetration, every branch and rupture
+        const cohesive::Gap gap{0.3 * g, g, g, -0.5 * g, 0.0, 1.0};
+        out(i, 0) = cohesive::integrate(cohesive::EnergyTag{}, law, q, gap, 1.5);
+        const cohesive::EndForces ef = cohesive::integrate(cohesive::TractionTag{}, law, q, gap, 1.5);
+        out(i, 1) = ef.f0x, out(i, 2) = ef.f1y;
+        double fn, ft;
+        law(cohesive::TractionTag{}, g, 0.5 * g, fn, ft);
+        out(i, 3) = fn, out(i, 4) = ft;
+        const kinematics::Pose p = loading::rigid_pose(lp, i % 2 ? 1 : -1, 20.0 * i / n, 0.0, g);
+        out(i, 5) = p.y, out(i, 6) = p.t;
+      });
+  Space{}.fence();
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+  for (int i = 0; i < n; ++i) {
+    const double g = -0.02 + 0.08 * i / (n - 1);
+    const cohesive::Gap gap{0.3 * g, g, g, -0.5 * g, 0.0, 1.0};
+    CHECK(h(i, 0) == cohesive::integrate(cohesive::EnergyTag{}, law, q, gap, 1.5));
+    const cohesive::EndForces ef = cohesive::integrate(cohesive::TractionTag{}, law, q, gap, 1.5);
+    CHECK(h(i, 1) == ef.f0x);
+    CHECK(h(i, 2) == ef.f1y);
+    double fn, ft;
+    law(cohesive::TractionTag{}, g, 0.5 * g, fn, ft);
+    CHECK(h(i, 3) == fn);
+    CHECK(h(i, 4) == ft);
+    const kinematics::Pose p = loading::rigid_pose(lp, i % 2 ? 1 : -1, 20.0 * i / n, 0.0, g);
+    CHECK(h(i, 5) == p.y);
+    CHECK(h(i, 6) == p.t);
+  }
+}
