@@ -129,6 +129,7 @@ def accuracy(out):
         ax.loglog(h, e, "o-", color=COL[m], label=m.upper())
         # fitted order over the three smallest steps (the asymptotic range)
         data["order"][m] = fit_order(h[-3:], e[-3:])
+        data.setdefault("order_all_steps", {})[m] = fit_order(h, e)
         data.setdefault("errors", {})[m] = dict(zip(["%.4g" % v for v in h], e))
         t = [float(a["wall_s"]) for a in rs]; eb = [float(a["err_bolted_ref"]) for a in rs]
         ax2.loglog(t, eb, "o", color=COL[m], label=m.upper())

@@ -25,7 +25,7 @@ one() {
   timing)
     note timing
     for nt in 1 2; do
-      run env $env $exe timing --sizes "${BIE_SIZES:-1000,5000,10000,25000,50000}" --ratio 500 --steps 20 \
+      run env $env $exe timing --sizes "${BIE_SIZES:-1000,10000,50000}" --ratio 500 --steps 10 \
         --out "$out/timing_${nt}t.csv" --kokkos-num-threads=$nt
     done ;;
   speedup)
@@ -38,7 +38,7 @@ one() {
       --out "$out/accuracy.csv" --kokkos-num-threads=2 ;;
   fail)
     note fail
-    run env $env $exe fail --bricks "${BIE_BRICKS:-200}" --ratios 10,100,500 --steps 1000 --horizon 20 \
+    run env $env $exe fail --bricks "${BIE_BRICKS:-200}" --ratios 10,100,500 --steps 1000 --horizon 160 \
       --out "$out/fail.csv" --kokkos-num-threads=2 ;;
   memory)
     note memory

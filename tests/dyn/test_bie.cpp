@@ -293,3 +293,44 @@ TEST_CASE("bie: a cracking run is bit-identical for any thread count", "[bie-det
   }
   if (const char* out = std::getenv("NACRE_HASH_OUT")) std::ofstream(out) << prints.str();
 }
+
+TEST_CASE("bie: a notched wall cracks from the notch tip at 10x BE's critical step", "[dyn][bie]") {
+  const auto g = wall(8, 8, 3.0);  // notch 3 bricks long on the mid-height bed joint
+  const auto st = make(g);
+  const deck::Mortar weak{{7000, 0.0005, 0.001}, {7000, 0.0005, 0.001}};
+  auto pb = params(500, dyn::Method::be);
+  pb.rate = 2000.0, pb.ramp_time = 1e-6, pb.ramp = dyn::Ramp::smooth, pb.tension = 0, pb.bending = 1;
+  pb.dt = 1.0;
+  dyn::HostMap map;
+  pb.dt = dyn::build_model(pb, st.s, st.f, weak, map).step_estimate;
+  const double hbe = dyn::critical_step(pb, st.s, st.f, weak, 1000, 0.05);
+  auto p = pb;
+  p.method = dyn::Method::bie;
+  p.dt = 10 * hbe;
+  dyn::Simulation sim(p, st.s, st.f, weak);
+  long steps = 0;
+  while (sim.ruptured() == 0 && steps < 20000) {
+    const bool ok = sim.advance(Exec{}, 50);
+    INFO(sim.why());
+    REQUIRE(ok);
+    steps += 50;
+  }
+  INFO("steps " << steps << " dt " << p.dt << " hBE " << hbe << " D " << sim.displacement());
+  REQUIRE(sim.ruptured() > 0);
+  // every ruptured interface lies at the notch tip (within one brick length of it)
+  const auto snap = sim.snapshot();
+  const double tipx = g.notch_length, tipy = g.notch_y;
+  int near = 0, ruptured = 0;
+  for (std::size_t i = 0; i < st.f.size(); ++i) {
+    if (snap.iface_state[i] != 2) continue;
+    ++ruptured;
+    const int a = st.f.a[i];
+    const double mx = st.s.cx[a] + 0.5 * (st.f.ra0x[i] + st.f.ra1x[i]);
+    const double my = st.s.cy[a] + 0.5 * (st.f.ra0y[i] + st.f.ra1y[i]);
+    near += std::hypot(mx - tipx, my - tipy) < g.brick_width;
+  }
+  CHECK(ruptured > 0);
+  CHECK(near == ruptured);
+  const auto e = sim.energies();
+  CHECK(std::abs(e.balance_residual) < 0.05);
+}
