@@ -31,7 +31,7 @@
 #include <vector>
 
 #if defined(NACRE_HAVE_KOKKOSKERNELS)
-#include <KokkosBatched_Gemv_Decl.hpp>
+#include <KokkosBlas2_serial_gemv.hpp>  // KokkosBatched::SerialGemv aborts in Kokkos Kernels >= 4.7.99
 #endif
 
 namespace nacre::dyn {
@@ -240,7 +240,8 @@ struct BieSolveOp {
   }
 
 #if defined(NACRE_HAVE_KOKKOSKERNELS)
-  /// (3) Kokkos Kernels: KokkosBatched::SerialGemv of the element's J^-1 and residual.
+  /// (3) Kokkos Kernels: KokkosBlas::SerialGemv (the per-thread batched GEMV; KokkosBatched's
+  /// name for it is deprecated and aborts in the develop snapshot) of J^-1 and the residual.
   KOKKOS_INLINE_FUNCTION void operator()(SolveBatchedTag, int s) const {
     const int t = slot_type(s);
     double r[kMaxBie];
@@ -248,7 +249,7 @@ struct BieSolveOp {
     auto A = Kokkos::subview(J, t, Kokkos::ALL, Kokkos::ALL);
     auto y = Kokkos::subview(R, s, Kokkos::ALL);
     Kokkos::View<const double*, Kokkos::LayoutRight, Kokkos::AnonymousSpace, Kokkos::MemoryUnmanaged> x(r, n);
-    KokkosBatched::SerialGemv<KokkosBatched::Trans::NoTranspose, KokkosBatched::Algo::Gemv::Unblocked>::invoke(
+    KokkosBlas::SerialGemv<KokkosBlas::Trans::NoTranspose, KokkosBlas::Algo::Gemv::Unblocked>::invoke(
         1.0, Kokkos::subview(A, Kokkos::make_pair(0, n), Kokkos::make_pair(0, n)), x, 0.0,
         Kokkos::subview(y, Kokkos::make_pair(0, n)));
   }
