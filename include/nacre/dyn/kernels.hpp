@@ -74,21 +74,23 @@ struct InterfaceOp {
     dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
   }
 
-  /// Energy of interface i; with f != nullptr also the nodal forces -dE/dq (same points).
+  /// Energy of interface i (kEnergy) and/or the nodal forces f = -dE/dq (kForce), from the same
+  /// quadrature points; the time step needs only the forces, the books only the energy.
+  template <bool kEnergy, bool kForce>
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
     const cohesive::Law& m = laws[ikind(i)];
     const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
     double e = 0;
-    if (f)
+    if constexpr (kForce)
       for (int k = 0; k < 8; ++k) f[k] = 0;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
       jump(i, q, quad.s[p], dn, dt, xa, xb);
       const double wl = quad.w[p] * lt;
-      e += wl * m(cohesive::EnergyTag{}, dn, dt);
-      if (f) {
+      if constexpr (kEnergy) e += wl * m(cohesive::EnergyTag{}, dn, dt);
+      if constexpr (kForce) {
         double fn, ft;
         m(cohesive::TractionTag{}, dn, dt, fn, ft);
         const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
@@ -99,11 +101,11 @@ struct InterfaceOp {
     return e;
   }
 
-  KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate(i, nullptr); }
+  KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate<true, false>(i, nullptr); }
 
   KOKKOS_INLINE_FUNCTION void operator()(ForceTag, int i) const {
     double f[8];
-    integrate(i, f);
+    integrate<false, true>(i, f);
     for (int k = 0; k < 8; ++k) out(i, k) = f[k];
   }
 
