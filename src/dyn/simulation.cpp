@@ -76,6 +76,7 @@ struct Simulation::Impl {
     const loading::Opening o = ramp(time_at(step + 1));
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
+    it.D_prev = ramp.displacement(time_at(step));
     verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     ++step;
   }
