@@ -10,7 +10,10 @@ int main(int argc, char* argv[]) {
   std::vector<char*> kokkos_args{argv[0]}, catch_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : catch_args).push_back(argv[i]);
-  int kargc = static_cast<int>(kokkos_args.size());
+  // argv[argc] == nullptr, as Kokkos (and C convention) expect of an argument vector
+  kokkos_args.push_back(nullptr);
+  catch_args.push_back(nullptr);
+  int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
-  return Catch::Session().run(static_cast<int>(catch_args.size()), catch_args.data());
+  return Catch::Session().run(static_cast<int>(catch_args.size()) - 1, catch_args.data());
 }

@@ -1,6 +1,6 @@
 // Monte Carlo solver: the elastic limit against an exact linear solve, energy bookkeeping,
 // determinism (same bits for 1 and 2 threads: see tests/CMakeLists.txt).
-#include <nacre/io/results.hpp>
+#include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <Eigen/Sparse>
@@ -244,8 +244,9 @@ TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][resta
   REQUIRE(full.size() > 3);
   // through a file, as the app does
   const auto path = std::filesystem::temp_directory_path() / "nacre_test_checkpoint.h5";
-  io::RunWriter::write_checkpoint(path, cp);
-  const mc::Checkpoint back = io::RunWriter::read_checkpoint(path);
+  io::write_checkpoint(path, mc::to_named(cp, "fingerprint", "deck text", d.load.final_displacement));
+  const mc::Checkpoint back = mc::from_named(io::read_checkpoint(path), st.s.size(),
+                                             static_cast<std::size_t>(mc::Solver(d, st.s, st.f).model().n_free));
   std::filesystem::remove(path);
   CHECK(back.pose == cp.pose);
   CHECK(back.global_cycle == cp.global_cycle);

@@ -1,18 +1,35 @@
+// The nacre command line: validate everything (flags, deck, limits, checkpoint) before touching
+// the output directory, run the MC solver, write outputs atomically, stop cleanly on SIGINT /
+// SIGTERM with a checkpoint, and start the plotting script without a shell.
+#include <nacre/app/restart.hpp>
 #include <nacre/app/run.hpp>
+#include <nacre/app/signals.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/geometry/specimen.hpp>
+#include <nacre/io/atomic_file.hpp>
+#include <nacre/io/checkpoint.hpp>
 #include <nacre/io/results.hpp>
+#include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <new>
+#include <optional>
+#include <spawn.h>
 #include <string_view>
+#include <sys/wait.h>
 #include <unistd.h>
+
+extern char** environ;
 
 #ifndef NACRE_PLOT_SCRIPT
 #define NACRE_PLOT_SCRIPT ""
@@ -30,36 +47,180 @@ std::string hms(double s) {
   return b;
 }
 
-int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
+/// \brief A bad command line (exit 2).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief Integer-valued Kokkos flags are checked here: Kokkos aborts (exit 134, a backtrace)
+/// on "--kokkos-num-threads=abc". Other --kokkos-* flags are left to Kokkos.
+void check_kokkos_flags(const std::vector<char*>& args) {
+  struct Rule {
+    std::string_view flag;
+    long lo;
+  };
+  static constexpr Rule rules[] = {{"--kokkos-num-threads", 1}, {"--kokkos-device-id", 0},
+                                   {"--kokkos-num-devices", 1}, {"--kokkos-skip-device", 0}};
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string_view a(args[i]);
+    for (const auto& r : rules) {
+      if (!a.starts_with(r.flag)) continue;
+      const std::string_view rest = a.substr(r.flag.size());
+      if (!rest.empty() && rest[0] != '=') continue;  // another flag sharing the prefix
+      if (rest.empty())
+        throw UsageError(std::string(a) + ": expected " + std::string(r.flag) + "=N (an integer >= " +
+                         std::to_string(r.lo) + ")");
+      const std::string_view v = rest.substr(1);
+      long n = 0;
+      const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
+      if (v.empty() || ec != std::errc() || p != v.data() + v.size() || n < r.lo || n > 1000000)
+        throw UsageError(std::string(a) + ": \"" + std::string(v) + "\" is not valid; expected " +
+                         std::string(r.flag) + "=N with N an integer in [" + std::to_string(r.lo) + ", 1000000]");
+    }
+  }
+}
+
+/// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted);
+/// returns the exit status, or -1 when it could not be started.
+int spawn_and_wait(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+struct RunOptions {
+  bool quiet = false, tty = false, extend = false, overwrite = false;
+  std::string restart;
+};
+
+/// \brief A new run (or a restart into another directory) sets up its output directory afresh;
+/// refuse (UsageError) when that would remove the checkpoint of an unfinished run, unless
+/// --overwrite. A finished run, or a checkpoint that could not be restarted anyway, is replaced.
+void check_not_overwriting(const deck::Deck& d, const RunOptions& opt) {
+  if (opt.overwrite) return;
+  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(cpath, ec)) return;
+  if (!opt.restart.empty()) {
+    std::filesystem::path src = std::filesystem::path(opt.restart).parent_path();
+    if (src.empty()) src = ".";
+    if (std::filesystem::equivalent(src, dir, ec) && !ec) return;  // continuing in place
+  }
+  io::Checkpoint c;
+  try {
+    c = io::read_checkpoint(cpath);
+  } catch (const io::CheckpointError&) {
+    return;
+  }
+  const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
+  const auto step = c.integers.find("step");
+  if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return;
+  throw UsageError(cpath.string() + " holds the checkpoint of an unfinished run (step " +
+                   (step == c.integers.end() ? std::string("?") : std::to_string(step->second)) + ", D = " +
+                   std::to_string(D->second) + " of " + std::to_string(F->second) +
+                   "), which this run would remove; continue it with --restart " + cpath.string() +
+                   ", write elsewhere with -o, or pass --overwrite to start afresh");
+}
+
+/// \brief The specimen of a deck, refused (DeckError) when no brick is free.
+void build(const deck::Deck& d, geometry::Specimen& specimen, geometry::Interfaces& interfaces, std::size_t& n_free) {
+  specimen = geometry::build_specimen(d.geometry);
+  interfaces = geometry::find_interfaces(specimen, d.geometry);
+  n_free = static_cast<std::size_t>(std::count(specimen.drive.begin(), specimen.drive.end(), geometry::Drive::free));
+  if (n_free == 0)
+    throw deck::DeckError(d.where("geometry") + ": the specimen has " + std::to_string(specimen.size()) +
+                          " bricks and none is free (all driven or none left); expected a specimen "
+                          "taller than 2 * driven_rows * brick_height, with bricks between the driven rows");
+}
+
+/// \brief Read and validate a checkpoint for this deck and specimen (checksum, fingerprint,
+/// ranges, final displacement); throws io::CheckpointError. Touches no output.
+mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, std::size_t n_bricks,
+                                    std::size_t n_free) {
+  const std::string& restart = opt.restart;
+  const io::Checkpoint named = io::read_checkpoint(restart);
+  check_fingerprint(named, d, restart);
+  mc::Checkpoint cp;
+  try {
+    cp = mc::from_named(named, n_bricks, n_free);
+  } catch (const io::CheckpointError& e) {
+    throw io::CheckpointError(restart + ": " + e.what());
+  }
+  const double cp_final = named.real("final_displacement");
+  if (cp.displacement > d.load.final_displacement * (1 + 1e-12))
+    throw io::CheckpointError(restart + ": the checkpoint is at D = " + std::to_string(cp.displacement) +
+                              ", beyond this deck's final_displacement = " + std::to_string(d.load.final_displacement) +
+                              " (" + d.where("load.final_displacement") + ")");
+  if (cp_final != d.load.final_displacement && !opt.extend)
+    throw io::CheckpointError(restart + ": the checkpoint's run ends at final_displacement = " +
+                              std::to_string(cp_final) + ", this deck at " + std::to_string(d.load.final_displacement) +
+                              " (" + d.where("load.final_displacement") +
+                              "); pass --extend to continue the run to the deck's final_displacement");
+  return cp;
+}
+
+int run_deck(deck::Deck d, const RunOptions& opt) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-  std::ostream* log = quiet ? nullptr : &std::cout;
+  std::ostream* log = opt.quiet ? nullptr : &std::cout;
+  const std::string& restart = opt.restart;
 
   geometry::Specimen specimen;
   geometry::Interfaces interfaces;
+  std::size_t n_free = 0;
   {
     Kokkos::Profiling::ScopedRegion region("nacre::geometry::build");
-    specimen = geometry::build_specimen(d.geometry);
-    interfaces = geometry::find_interfaces(specimen, d.geometry);
+    build(d, specimen, interfaces, n_free);
   }
   if (log)
     *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
          << " interfaces (" << elapsed() << " s), " << Kokkos::DefaultExecutionSpace::name() << " with "
          << Kokkos::DefaultExecutionSpace().concurrency() << " threads\n";
-  mc::Checkpoint cp;
+
+  // Restart: read and validate everything (checksum, fingerprint, ranges, the solver's own
+  // checks) before the output directory is touched.
+  const std::string text = physics_text(d);
+  const std::string print = fingerprint(text);
+  std::optional<mc::Checkpoint> cp;
   if (!restart.empty()) {
-    cp = io::RunWriter::read_checkpoint(restart);
-    d.solver.colouring = cp.colouring;  // the run continues with the schedule it started with
+    cp = validated_checkpoint(d, opt, specimen.size(), n_free);
+    d.solver.colouring = cp->colouring;  // the run continues with the schedule it started with
   }
   mc::Solver solver(d, specimen, interfaces, log);
-  if (!restart.empty()) {
-    solver.restore(cp);
-    if (log) *log << "nacre: restarting from " << restart << " at step " << cp.run.step << ", D = " << cp.displacement
-                  << ", cycle " << cp.global_cycle << "\n";
+  if (cp) {
+    try {
+      solver.restore(*cp);
+    } catch (const std::runtime_error& e) {
+      throw io::CheckpointError(restart + ": " + e.what());
+    }
+    if (log) *log << "nacre: restarting from " << restart << " at step " << cp->run.step << ", D = " << cp->displacement
+                  << ", cycle " << cp->global_cycle << "\n";
   }
-  io::RunWriter writer(d, specimen, interfaces, restart.empty() ? -1 : cp.run.step);
-  const bool progress = tty && d.output.progress && !quiet;
+  // Only now, with everything validated, is the output directory set up (a restart into
+  // another directory writes its own mesh.h5 and receives the earlier rows).
+  std::optional<io::RunWriter::Resume> resume;
+  if (cp) resume = io::RunWriter::Resume{cp->run.step, std::filesystem::path(restart).parent_path()};
+  if (resume && resume->source_directory.empty()) resume->source_directory = ".";
+  io::RunWriter writer({d.output.directory, d.output.hdf5, mc::csv_header()}, specimen, interfaces, resume);
+  if (log && writer.stale_temporaries_removed() > 0)
+    *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
+         << writer.directory().string() << "/\n";
+  const auto checkpoint_path = writer.directory() / "checkpoint.h5";
+  auto named_checkpoint = [&] {
+    return mc::to_named(solver.checkpoint(), print, text, d.load.final_displacement);
+  };
+  io::Checkpoint last = named_checkpoint();  // state after the last completed step
+
+  SignalGuard signals;
+  solver.should_stop = [] { return pending_signal() != 0; };
+  const bool progress = opt.tty && d.output.progress && !opt.quiet;
   int current_step = 0;
   const double t_run = elapsed();
   bool step_done = false;  // the line names the step in progress, or the one just finished
@@ -73,12 +234,17 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
     std::fflush(stderr);
   };
   if (progress) solver.on_progress = progress_line;
-  if (restart.empty()) writer.dump(0, solver);
+  auto dump = [&](int step) {
+    writer.dump(mc::snapshot(solver, specimen, interfaces, step));
+    io::write_checkpoint(checkpoint_path, last);
+  };
+  if (!cp) dump(0);
   solver.run([&](const mc::StepRecord& r) {
     current_step = r.step;
-    writer.step(r);
-    const bool last = r.displacement >= d.load.final_displacement * (1 - 1e-12);
-    if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || last) writer.dump(r.step, solver);
+    writer.row(r.step, mc::csv_row(r));
+    last = named_checkpoint();
+    const bool final_step = r.displacement >= d.load.final_displacement * (1 - 1e-12);
+    if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || final_step) dump(r.step);
     if (progress) {
       step_done = true;
       progress_line(r.cycles, r.energy);
@@ -90,12 +256,26 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
            << r.acceptance << ", ruptured " << r.ruptured << "\n";
   });
   if (progress) std::fprintf(stderr, "\n");
-  writer.summary(solver, elapsed(), "");
+  if (solver.interrupted()) {
+    // The write in progress finished before the flag was seen; the step in progress is dropped
+    // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
+    const int sig = pending_signal();
+    io::write_checkpoint(checkpoint_path, last);
+    std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << last.integer("step")
+              << "; checkpoint written to " << checkpoint_path.string() << "\nnacre: continue with: nacre "
+              << d.path << " -o " << writer.directory().string() << " --restart " << checkpoint_path.string() << "\n";
+    return 128 + sig;
+  }
+  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed()));
   if (log) {
     const auto& pt = solver.times();
     *log << "nacre: done in " << elapsed() << " s; " << solver.global_cycle() << " cycles; time split: sweep "
          << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng << " s\n";
     *log << "nacre: results in " << writer.directory().string() << "/ (steps.csv, nacre.xdmf, summary.json)\n";
+  }
+  if (const int sig = pending_signal()) {
+    std::cerr << "nacre: " << signal_name(sig) << " received after the last step: results complete, charts skipped\n";
+    return 128 + sig;
   }
   if (d.output.charts) {
     const char* env = std::getenv("NACRE_PLOT_SCRIPT");
@@ -103,8 +283,9 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
     if (script.empty() || !std::filesystem::exists(script)) {
       std::cerr << "nacre: warning: plotting script not found; charts skipped\n";
     } else {
-      const std::string cmd = "python3 '" + script + "' '" + writer.directory().string() + "'";
-      if (std::system(cmd.c_str()) != 0) std::cerr << "nacre: warning: chart script failed: " << cmd << "\n";
+      // an argument vector, no shell: the output path is never interpreted
+      const int rc = spawn_and_wait({"python3", script, writer.directory().string()});
+      if (rc != 0) std::cerr << "nacre: warning: chart script " << script << " failed (status " << rc << ")\n";
       else if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
     }
   }
@@ -114,7 +295,8 @@ int run_deck(deck::Deck d, bool quiet, bool tty, const std::string& restart) {
 }  // namespace
 
 int main(int argc, char* argv[]) {
-  // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11.
+  // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
+  // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
@@ -122,20 +304,35 @@ int main(int argc, char* argv[]) {
   CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks, Monte Carlo)"};
   std::string deck_path;
   std::string out_override;
-  bool quiet = false, check_only = false;
-  std::string restart;
+  RunOptions opt;
+  bool check_only = false;
   cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
   cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
-  cli.add_flag("-q,--quiet", quiet, "no log lines or progress");
+  cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
   cli.add_flag("--check", check_only, "validate the deck and exit");
-  cli.add_option("--restart", restart, "continue a run from its checkpoint.h5 (written at every dump)")
+  cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
       ->check(CLI::ExistingFile);
-  cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.");
+  cli.add_flag("--overwrite", opt.overwrite,
+               "start afresh even where the output directory holds the checkpoint of an unfinished run");
+  cli.add_flag("--extend", opt.extend,
+               "with --restart: the deck's final_displacement may differ from the checkpoint's run "
+               "(continue a finished run further)");
+  cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
+             "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
+             "checkpoint, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
+    check_kokkos_flags(kokkos_args);
   } catch (const CLI::ParseError& e) {
     const int rc = cli.exit(e);
     return rc == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 2;
+  }
+  if (opt.extend && opt.restart.empty()) {
+    std::cerr << "nacre: error: --extend needs --restart\n";
+    return 2;
   }
 
   deck::Deck d;
@@ -148,12 +345,44 @@ int main(int argc, char* argv[]) {
   if (!out_override.empty()) d.output.directory = out_override;
   if (check_only) {
     std::cout << "nacre: " << deck_path << ": deck is valid\n";
-    return 0;
+    if (opt.restart.empty()) return 0;
+    try {  // host-only: the specimen and the checkpoint, no Kokkos, no output
+      geometry::Specimen specimen;
+      geometry::Interfaces interfaces;
+      std::size_t n_free = 0;
+      build(d, specimen, interfaces, n_free);
+      const mc::Checkpoint cp = validated_checkpoint(d, opt, specimen.size(), n_free);
+      std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.run.step
+                << ", D = " << cp.displacement << ")\n";
+      return 0;
+    } catch (const deck::DeckError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+    } catch (const io::CheckpointError& e) {
+      std::cerr << "nacre: error: cannot restart: " << e.what() << "\n";
+    }
+    return 2;
   }
-  int kargc = static_cast<int>(kokkos_args.size());
-  Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   try {
-    return run_deck(d, quiet, ::isatty(STDERR_FILENO) != 0, restart);
+    check_not_overwriting(d, opt);
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 2;
+  }
+  kokkos_args.push_back(nullptr);
+  int kargc = static_cast<int>(kokkos_args.size()) - 1;
+  Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
+  opt.tty = ::isatty(STDERR_FILENO) != 0;
+  try {
+    return run_deck(d, opt);
+  } catch (const deck::DeckError& e) {
+    std::cerr << "\nnacre: error: " << e.what() << "\n";
+    return 2;
+  } catch (const io::CheckpointError& e) {
+    std::cerr << "\nnacre: error: cannot restart: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "\nnacre: error: out of memory (raise nothing: reduce the specimen, see [limits] in docs/decks.md)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";
     return 1;

@@ -2,7 +2,11 @@
 // own reader (src/deck/sections/<name>.cpp) through the shared table walker (section.hpp), in the
 // order of kSections. A new section is one more reader file and one more row below.
 #include "section.hpp"
+#include "toml_text.hpp"
 
+#include <nacre/deck/limits.hpp>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -20,6 +24,7 @@ constexpr SectionReader kSections[] = {
     {"geometry", detail::read_geometry}, {"mortar", detail::read_mortar},
     {"load", detail::read_load},         {"solver", detail::read_solver},
     {"random", detail::read_random},     {"output", detail::read_output},
+    {"limits", detail::read_limits},
 };
 
 Deck parse_table(const toml::table& root, const std::string& file) {
@@ -46,10 +51,17 @@ Deck parse_deck_string(std::string_view text, const std::string& name) {
     os << name << ':' << e.source().begin.line << ": (syntax): " << e.description();
     throw DeckError(os.str());
   }
-  return parse_table(root, name);
+  Deck d = parse_table(root, name);
+  d.lines = key_lines(root);
+  d.canonical = canonical_physics(root);
+  check_limits(d);  // estimates from the deck, before anything is built
+  return d;
 }
 
 Deck parse_deck_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw DeckError(path + ":0: (file): is a directory; expected a TOML deck file");
   std::ifstream in(path);
   if (!in) throw DeckError(path + ":0: (file): cannot open; expected a readable TOML deck");
   std::stringstream ss;

@@ -91,5 +91,6 @@ void read_load(Section& top, Deck& d);
 void read_solver(Section& top, Deck& d);
 void read_random(Section& top, Deck& d);
 void read_output(Section& top, Deck& d);
+void read_limits(Section& top, Deck& d);
 
 }  // namespace nacre::deck::detail

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace nacre::geometry {
 namespace {
@@ -54,6 +56,15 @@ bool finish(Poly& p, double eps, double& area, double& cx, double& cy) {
   return true;
 }
 
+/// \brief A grid index from a double, refusing what a long cannot hold (the deck's limits stop
+/// such specimens first; this keeps the conversion defined if a caller skips them).
+long grid_index(double v) {
+  if (!std::isfinite(v) || std::abs(v) > 1e12)
+    throw std::invalid_argument("specimen: wall grid index " + std::to_string(v) +
+                                " out of range (brick size too small for the specimen, or not finite)");
+  return static_cast<long>(v);
+}
+
 }  // namespace
 
 Specimen build_specimen(const deck::Geometry& g) {
@@ -77,11 +88,13 @@ Specimen build_specimen(const deck::Geometry& g) {
   // unrotated wall has no slivers at the bottom edge and the notch at mid-height falls on a bed
   // joint whenever H/2 is a multiple of the brick height.
   const double u0 = -0.5 * W, v0 = -0.5 * H;
-  const long j0 = static_cast<long>(std::floor((vmin - v0) / h)) - 1;
-  const long j1 = static_cast<long>(std::ceil((vmax - v0) / h)) + 1;
+  const long j0 = grid_index(std::floor((vmin - v0) / h)) - 1;
+  const long j1 = grid_index(std::ceil((vmax - v0) / h)) + 1;
   const double min_area = g.min_piece_fraction * s.full_brick_area;
-  const long ncols = static_cast<long>(std::ceil((umax - umin) / w)) + 4;
-  const std::size_t estimate = static_cast<std::size_t>((j1 - j0) * ncols);
+  const long ncols = grid_index(std::ceil((umax - umin) / w)) + 4;
+  const double cells = static_cast<double>(j1 - j0) * static_cast<double>(ncols);
+  if (cells > 1e10) throw std::invalid_argument("specimen: " + std::to_string(cells) + " wall-grid cells; too many");
+  const std::size_t estimate = static_cast<std::size_t>(cells);
   s.cx.reserve(estimate), s.cy.reserve(estimate), s.area.reserve(estimate), s.drive.reserve(estimate);
   s.vx.reserve(5 * estimate), s.vy.reserve(5 * estimate), s.poly_offset.reserve(estimate + 1);
 
@@ -103,8 +116,8 @@ Specimen build_specimen(const deck::Geometry& g) {
   for (long j = j0; j <= j1; ++j) {
     const double shift = (j * g.overlap - std::floor(j * g.overlap)) * w;
     const double vlo = v0 + j * h, vhi = vlo + h;
-    const long i0 = static_cast<long>(std::floor((umin - u0 - shift) / w)) - 1;
-    const long i1 = static_cast<long>(std::ceil((umax - u0 - shift) / w)) + 1;
+    const long i0 = grid_index(std::floor((umin - u0 - shift) / w)) - 1;
+    const long i1 = grid_index(std::ceil((umax - u0 - shift) / w)) + 1;
     for (long i = i0; i <= i1; ++i) {
       const double ulo = u0 + shift + i * w, uhi = ulo + w;
       Poly p{to_specimen(ulo, vlo), to_specimen(uhi, vlo), to_specimen(uhi, vhi), to_specimen(ulo, vhi)};

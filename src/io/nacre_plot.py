@@ -3,8 +3,8 @@
 (energy_force.png) and the final crack (crack.png: bricks coloured by energy, displaced,
 ruptured interfaces in red). Usage: nacre_plot.py OUTPUT_DIR"""
 import csv
-import glob
 import os
+import re
 import sys
 
 import matplotlib
@@ -40,7 +40,10 @@ def main(out):
     fig.savefig(os.path.join(out, "energy_force.png"), dpi=120)
     plt.close(fig)
 
-    dumps = sorted(glob.glob(os.path.join(out, "dump_*.h5")))
+    # nacre's dumps only (dump_NNNNN.h5): a stray dump_final.h5 or dump_7.h5.bak is not one
+    dumps = sorted((int(m.group(1)), os.path.join(out, f)) for f in os.listdir(out)
+                   if (m := re.fullmatch(r"dump_(\d+)\.h5", f)))
+    dumps = [p for _, p in dumps]
     mesh = os.path.join(out, "mesh.h5")
     if not dumps or not os.path.exists(mesh):
         return

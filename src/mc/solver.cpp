@@ -39,12 +39,21 @@ Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Spec
   Kokkos::Profiling::ScopedRegion region("nacre::mc::setup");
   const auto adj = geometry::build_adjacency(s.size(), f);
   std::string chosen = d.solver.colouring;
-  if (chosen == "auto") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
+  // "auto" is a fixed rule, so the same deck and seed give the same result on the same build:
+  // tiles (cache-friendly, one thread per tile) where the default space runs on the host, the
+  // per-brick natural colouring (one thread per brick) on devices. "fastest" times every
+  // candidate (results may then differ between runs; the pick goes to summary.json).
+  if (chosen == "auto") chosen = auto_colouring();
+  if (chosen == "fastest") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
   const Colouring c = make_colouring(chosen, s, adj, free_flags(s), d.seed);
   setup(s, f, adj, c);
   if (log_) *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << m_.n_free
                   << " free and " << (m_.n_bricks - m_.n_free) << " driven bricks, " << m_.n_interfaces
                   << " interfaces\n";
+}
+
+std::string auto_colouring() {
+  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, ExecSpace::memory_space>::accessible ? "tiles" : "natural";
 }
 
 Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
@@ -73,9 +82,9 @@ void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, c
 std::string Solver::presimulate(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
                                 const geometry::Interfaces& f, const geometry::Adjacency& adj,
                                 std::vector<std::pair<std::string, double>>& presim, std::ostream* log) {
-  // Pre-simulation (§2.4): a few cycles at the first load increment with each candidate; the
-  // fastest wins. (The choice depends on timings; pin `colouring` for bit-reproducible runs
-  // across machines — the chosen name is logged and written to the outputs.) Each candidate is
+  // Pre-simulation (§2.4, colouring = "fastest"): a few cycles at the first load increment with
+  // each candidate; the fastest wins. The choice depends on timings, so results may differ
+  // between runs; the pick is logged, written to summary.json and kept by the checkpoint. Each candidate is
   // a solver of its own, dropped after timing: the run itself starts untouched.
   Kokkos::Profiling::ScopedRegion pre("nacre::mc::presimulation");
   const auto free = free_flags(s);
@@ -224,6 +233,10 @@ long Solver::relax(bool& converged) {
     }
     if (on_progress && c % 1000 == 0) on_progress(c, E_);
     if (cycle_limit_ > 0 && c >= cycle_limit_) break;
+    if (should_stop && should_stop()) {
+      interrupted_ = true;
+      break;
+    }
   }
   E_ = energy();
   return c;
@@ -251,6 +264,10 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   int& step = run_.step;
   const double final_d = L.final_displacement;
   while (D_ < final_d * (1 - 1e-12)) {
+    if (should_stop && should_stop()) {
+      interrupted_ = true;
+      return;
+    }
     Kokkos::Timer timer;
     double inc_now = std::min(inc, final_d - D_);
     const double D0 = D_;
@@ -267,6 +284,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       cycle_limit_ = may_revert ? static_cast<long>(c_u) : 0;
       cycles = relax(converged);
       cycle_limit_ = 0;
+      if (interrupted_) return;  // the step is abandoned; the caller keeps the last step's checkpoint
       if (may_revert && !converged && cycles >= static_cast<long>(c_u)) {
         // eq. 2.9: back to the last converged state, retry with a smaller increment
         Kokkos::deep_copy(space_, m_.pose, save_pose_);

@@ -45,8 +45,9 @@ check(count > 0, "no DataItem in nacre.xdmf")
 with h5py.File(os.path.join(out, "mesh.h5"), "r") as m:
     check(m["/bricks/area"].shape[0] == n, "mesh.h5 brick count != summary")
 with h5py.File(os.path.join(out, "checkpoint.h5"), "r") as c:
-    check(c["/pose"].shape == (n, 3), "checkpoint pose shape")
+    check(c["/arrays/pose"].shape == (3 * n,), "checkpoint pose shape")
     check(int(c.attrs["step"]) == len(rows), "checkpoint is not at the last step")
+    check(c.attrs["format"] in (b"nacre-checkpoint-1", "nacre-checkpoint-1"), "checkpoint format tag")
 for png in ["energy_force.png", "crack.png"]:
     p = os.path.join(out, png)
     check(os.path.exists(p) and open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n", f"{png} missing or not a PNG")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end: run the nacre executable on tests/app/tiny.toml, validate every output, then check
-# that a run extended by --restart (to twice the displacement) equals a direct run bit for bit.
+# that a run extended by --restart --extend (to twice the displacement) equals a direct run bit for bit.
 #   run_app_checks.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -euo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -8,7 +8,7 @@ rm -rf "$work"; mkdir -p "$work"; cd "$work"
 sed 's/^final_displacement = .*/final_displacement = 0.024/' "$src/tests/app/tiny.toml" > long.toml
 "$exe" "$src/tests/app/tiny.toml" -o short -q
 python3 "$src/tests/app/check_outputs.py" short
-"$exe" long.toml -o short -q --restart short/checkpoint.h5
+"$exe" long.toml -o short -q --restart short/checkpoint.h5 --extend
 "$exe" long.toml -o direct -q
 # every column but the wall time must agree exactly
 if ! diff <(cut -d, -f1-12 short/steps.csv) <(cut -d, -f1-12 direct/steps.csv); then

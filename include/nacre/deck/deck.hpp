@@ -8,6 +8,7 @@
 #include <nacre/cohesive/law.hpp>
 
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -86,6 +87,14 @@ struct Output {
   bool progress = true;
 };
 
+/// \brief Limits of what a deck may ask for, checked from estimates before anything is built
+/// (deck/limits.hpp); a deck that needs more must raise them explicitly in [limits].
+struct Limits {
+  double max_bricks = 5e6;         ///< estimated bricks (wall-grid cells covering the specimen)
+  double max_load_steps = 1e6;     ///< final_displacement / smallest increment
+  double max_memory_gib = 0;       ///< estimated memory; 0: 80 % of this machine's physical memory
+};
+
 /// \brief A whole run.
 struct Deck {
   std::string path;  ///< where it was read from
@@ -94,7 +103,16 @@ struct Deck {
   Load load;
   MonteCarlo solver;  ///< [solver] (members are named after their TOML table)
   Output output;
+  Limits limits;
   std::uint64_t seed = 1;
+  /// \brief The deck's content that fixes the physics, canonical (one "section.key = value" line
+  /// per key, sorted; comments, layout and key order ignored); [output], [limits] and
+  /// load.final_displacement left out (a restart may extend a run, see the app's --extend).
+  std::string canonical;
+  /// \brief Line of every key ("geometry.width") and section ("geometry") in the file.
+  std::map<std::string, int> lines;
+  /// \brief "file:line: key" for messages about a key (line 0 when unknown).
+  [[nodiscard]] std::string where(const std::string& key) const;
 };
 
 /// \brief Parse and validate a deck file. Throws DeckError.

@@ -1,8 +1,10 @@
 #pragma once
 /// \file
 /// \brief A thin RAII layer over the HDF5 C API: create a file, groups, 1-D/2-D datasets and
-/// scalar attributes. Enough for nacre's dumps and checkpoints, nothing more.
+/// scalar attributes. Enough for nacre's dumps and checkpoints, nothing more. Every HDF5 error,
+/// the final close included, throws (with the OS error text where there is one).
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -11,7 +13,10 @@ namespace nacre::io {
 class H5Writer {
 public:
   explicit H5Writer(const std::string& path);  ///< create/truncate
+  /// \brief Closes without checking (only reached on an error path: call close() to commit).
   ~H5Writer();
+  /// \brief Flush and close the file; throws if HDF5 could not write it completely (full disk).
+  void close();
   H5Writer(const H5Writer&) = delete;
   H5Writer& operator=(const H5Writer&) = delete;
 
@@ -28,6 +33,7 @@ public:
 private:
   template <class T>
   void write_impl(const std::string& name, const std::vector<T>& v, std::size_t cols, long type);
+  std::string path_;
   long file_ = -1;
 };
 
@@ -49,6 +55,15 @@ public:
 private:
   std::string path_;
   long file_ = -1;
+
+public:
+  /// \brief Kind of a scalar attribute as stored.
+  enum class Kind { integer, real, string, other };
+  /// \brief Every scalar attribute of the root group with its kind.
+  [[nodiscard]] std::map<std::string, Kind> attributes() const;
+  [[nodiscard]] std::int64_t integer_attribute(const std::string& name) const;
+  /// \brief Names of the datasets directly inside `group` (empty when it does not exist).
+  [[nodiscard]] std::vector<std::string> datasets(const std::string& group) const;
 };
 
 }  // namespace nacre::io

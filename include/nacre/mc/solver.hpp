@@ -57,7 +57,7 @@ struct PhaseTimes {
 /// copy of the run goes through `space()`. (The uniform sources run on the default instance.)
 class Solver {
 public:
-  /// \brief Colours the bricks (running the pre-simulation when colouring = "auto") and uploads
+  /// \brief Colours the bricks (running the pre-simulation when colouring = "fastest") and uploads
   /// the model. `log` gets one line per decision (may be null).
   Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
          const geometry::Interfaces& f, std::ostream* log = nullptr);
@@ -70,7 +70,7 @@ public:
 
   [[nodiscard]] const Model<>& model() const { return m_; }
   /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
-  /// unless the deck asked for colouring = "auto".
+  /// unless the deck asked for colouring = "fastest".
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
 
   /// \brief Move the driven bricks to load D (free bricks stay).
@@ -99,6 +99,11 @@ public:
 
   /// \brief Called every ~1000 cycles inside a step with (cycles so far, energy) for progress.
   std::function<void(long, double)> on_progress;
+  /// \brief Asked after every cycle (e.g. a signal flag); true abandons the load step in
+  /// progress and returns from run() with interrupted() set. The state is then mid-step: resume
+  /// from a checkpoint taken after the last completed step.
+  std::function<bool()> should_stop;
+  [[nodiscard]] bool interrupted() const { return interrupted_; }
 
   [[nodiscard]] const PhaseTimes& times() const { return times_; }
   [[nodiscard]] double step_size() const { return step_; }
@@ -143,7 +148,12 @@ private:
   long cycle_limit_ = 0;
   RunState run_;  ///< > 0: relax() gives up after this many cycles (backtracking)
   std::uint64_t global_cycle_ = 0;
+  bool interrupted_ = false;
   std::ostream* log_;
 };
+
+/// \brief The colouring that colouring = "auto" stands for on this build: "tiles" when the
+/// default execution space runs on the host, "natural" (one brick per thread) on a device.
+[[nodiscard]] std::string auto_colouring();
 
 }  // namespace nacre::mc

@@ -30,8 +30,9 @@ void read_solver(Section& top, Deck& d) {
   s.number("window_upper_mul", {"WindowUpperMul"}, S.window_upper_mul, positive, "a positive factor");
   s.integer("max_cycles", {}, S.max_cycles, 1, 1000000000000L, "a cycle count >= 1");
   s.integer("quadrature_points", {}, S.quadrature_points, 1, 8, "an integer in [1, 8]");
-  s.string("colouring", S.colouring, {"auto", "natural", "largest-first", "random", "balanced", "tiles"},
-           "one of \"auto\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\"");
+  s.string("colouring", S.colouring,
+           {"auto", "fastest", "natural", "largest-first", "random", "balanced", "tiles"},
+           "one of \"auto\", \"fastest\", \"natural\", \"largest-first\", \"random\", \"balanced\", \"tiles\"");
   s.integer("presim_cycles", {}, S.presim_cycles, 1, 100000, "an integer in [1, 100000]");
   // The paper's AmpFactor and StructSteps are 1 in every run it reports; nacre implements that
   // case only and says so instead of silently ignoring another value.

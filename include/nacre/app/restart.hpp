@@ -1,0 +1,25 @@
+#pragma once
+/// \file
+/// \brief What identifies a run's physics in a checkpoint, and the checks a restart makes before
+/// anything in the output directory is touched. Shared by the solver families: each stores its
+/// state as io::Checkpoint named arrays with the fingerprint of its deck.
+#include <nacre/deck/deck.hpp>
+#include <nacre/io/checkpoint.hpp>
+
+#include <string>
+
+namespace nacre::app {
+
+/// \brief The deck's canonical physics text (Deck::canonical) plus nacre's version and the
+/// build's backend (Kokkos default execution space): everything that fixes the numbers.
+[[nodiscard]] std::string physics_text(const deck::Deck& d);
+
+/// \brief 16 hex digits (FNV-1a 64) of physics_text.
+[[nodiscard]] std::string fingerprint(const std::string& physics_text);
+
+/// \brief Refuses (io::CheckpointError) a checkpoint whose fingerprint differs from the deck's,
+/// naming the first differing line of the physics text ("mortar.k = 100 in the checkpoint,
+/// 120 in the deck"). The checkpoint must hold its text as strings["deck"].
+void check_fingerprint(const io::Checkpoint& c, const deck::Deck& d, const std::string& checkpoint_path);
+
+}  // namespace nacre::app

@@ -1,0 +1,30 @@
+#pragma once
+/// \file
+/// \brief What a deck may ask for: sizes, memory and load steps estimated from the deck alone,
+/// before anything is built, so an absurd deck is refused in milliseconds with
+/// "file:line: key: ..." instead of running out of memory, overflowing or never ending.
+#include <nacre/deck/deck.hpp>
+
+namespace nacre::deck {
+
+/// \brief Estimates of a deck's run (upper bounds, as documented in docs/decks.md [limits]).
+struct Estimate {
+  double bricks = 0;      ///< wall-grid cells covering the specimen's bounding box (x2 near the notch)
+  double load_steps = 0;  ///< final_displacement / smallest increment
+  double bytes = 0;       ///< bricks x bytes_per_brick
+};
+
+/// \brief Bytes per brick of a run (host specimen + interfaces + device model + work arrays +
+/// the output copies), measured and rounded up (docs/decks.md).
+inline constexpr double bytes_per_brick = 4096;
+
+[[nodiscard]] Estimate estimate(const Deck& d);
+
+/// \brief The [limits] memory bound in bytes (max_memory_gib, or 80 % of physical memory).
+[[nodiscard]] double memory_limit_bytes(const Limits& l);
+
+/// \brief Throws DeckError ("file:line: key: ...") when a value is outside what doubles can
+/// carry through the model, or an estimate exceeds [limits].
+void check_limits(const Deck& d);
+
+}  // namespace nacre::deck

@@ -1,0 +1,37 @@
+#pragma once
+/// \file
+/// \brief The Monte Carlo solver's side of the outputs: its CSV rows, its dump snapshot (named
+/// brick / vertex / interface fields), its summary, and its checkpoint as named arrays with
+/// range checks on the way back in. io stays solver-neutral; this file translates.
+#include <nacre/io/checkpoint.hpp>
+#include <nacre/io/results.hpp>
+#include <nacre/mc/solver.hpp>
+
+#include <string>
+
+namespace nacre::mc {
+
+[[nodiscard]] std::string csv_header();
+[[nodiscard]] std::string csv_row(const StepRecord& r);
+
+/// \brief Poses, displaced polygon vertices, brick energies (half of each interface to each
+/// side), interface ends, energies and states, in original order.
+[[nodiscard]] io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f,
+                                    int step);
+
+/// \brief summary.json: sizes, colouring (and the pick of colouring = "fastest" with its
+/// timings), generator, seed, threads, backend, steps, cycles, times.
+[[nodiscard]] std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds);
+
+/// \brief The checkpoint as named arrays (solver "mc"); `fingerprint` and `deck_text` identify
+/// the deck that made it, `final_displacement` the end of its loading programme.
+[[nodiscard]] io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint,
+                                      const std::string& deck_text, double final_displacement);
+
+/// \brief Back from named arrays, every value range-checked against a specimen of `n_bricks`
+/// bricks of which `n_free` are free: poses finite, counts non-negative and consistent
+/// (trials = cycles x free bricks, accepted <= trials), step sizes positive. Throws
+/// io::CheckpointError naming the first offending entry.
+[[nodiscard]] Checkpoint from_named(const io::Checkpoint& c, std::size_t n_bricks, std::size_t n_free);
+
+}  // namespace nacre::mc

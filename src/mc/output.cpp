@@ -1,0 +1,196 @@
+// The MC solver's outputs in io's solver-neutral terms (issue 7 §1): CSV rows, dump snapshot,
+// summary, and the checkpoint as named arrays, range-checked on the way back (issue 6 point 2).
+#include <nacre/kinematics/rigid.hpp>
+#include <nacre/mc/output.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace nacre::mc {
+
+namespace {
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+}  // namespace
+
+std::string csv_header() {
+  return "step,displacement,energy,reaction,cycles,acceptance,ruptured,converged,step_size,"
+         "rot_step,increment,reverts,seconds\n";
+}
+
+std::string csv_row(const StepRecord& r) {
+  return std::to_string(r.step) + "," + num(r.displacement) + "," + num(r.energy) + "," + num(r.reaction) + "," +
+         std::to_string(r.cycles) + "," + num(r.acceptance) + "," + std::to_string(r.ruptured) + "," +
+         (r.converged ? "1" : "0") + "," + num(r.step_size) + "," + num(r.rot_step) + "," + num(r.increment) + "," +
+         std::to_string(r.reverts) + "," + num(r.seconds) + "\n";
+}
+
+io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::snapshot");
+  const auto& m = solver.model();
+  std::vector<double> x, y, t;
+  solver.poses(x, y, t);
+  const auto& space = solver.space();
+  using Kokkos::view_alloc, Kokkos::WithoutInitializing;
+  Field<double> be(view_alloc(space, WithoutInitializing, "nacre::mc::brick_energy_out"), m.n_bricks);
+  Field<double> ie(view_alloc(space, WithoutInitializing, "nacre::mc::iface_energy_out"), m.n_interfaces);
+  Field<std::int8_t> is(view_alloc(space, WithoutInitializing, "nacre::mc::iface_state_out"), m.n_interfaces);
+  brick_energy(space, m, be);
+  interface_state(space, m, ie, is);
+  auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
+  auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
+  auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
+  const std::size_t n = s.size(), ni = f.size();
+  std::vector<double> energy(n), pts(2 * s.vx.size()), ipts(4 * ni), ienergy(ni);
+  std::vector<std::int8_t> istate(ni);
+  for (int k = 0; k < m.n_bricks; ++k) energy[m.perm[k]] = 0.5 * hbe(k);
+  for (std::size_t i = 0; i < ni; ++i) ienergy[m.iface_perm[i]] = hie(i), istate[m.iface_perm[i]] = his(i);
+  auto moved = [&](std::size_t b, double px, double py, double& ox, double& oy) {
+    double dx, dy;
+    kinematics::point_displacement(kinematics::Pose{x[b], y[b], t[b]}, px - s.cx[b], py - s.cy[b], dx, dy);
+    ox = px + dx, oy = py + dy;
+  };
+  for (std::size_t b = 0; b < n; ++b)
+    for (int v = s.poly_offset[b]; v < s.poly_offset[b + 1]; ++v) moved(b, s.vx[v], s.vy[v], pts[2 * v], pts[2 * v + 1]);
+  for (std::size_t i = 0; i < ni; ++i) {  // interface drawn on brick a's face
+    const std::size_t a = f.a[i];
+    moved(a, s.cx[a] + f.ra0x[i], s.cy[a] + f.ra0y[i], ipts[4 * i], ipts[4 * i + 1]);
+    moved(a, s.cx[a] + f.ra1x[i], s.cy[a] + f.ra1y[i], ipts[4 * i + 2], ipts[4 * i + 3]);
+  }
+  io::Snapshot snap;
+  snap.step = step;
+  snap.time = solver.load();
+  snap.reals["displacement"] = solver.load();
+  snap.reals["energy"] = solver.tracked_energy();
+  snap.integers["cycle"] = static_cast<std::int64_t>(solver.global_cycle());
+  using io::Centre;
+  snap.fields.push_back({Centre::vertex, "points", std::move(pts), 2});
+  snap.fields.push_back({Centre::brick, "energy", std::move(energy), 1});
+  snap.fields.push_back({Centre::brick, "x", std::move(x), 1});
+  snap.fields.push_back({Centre::brick, "y", std::move(y), 1});
+  snap.fields.push_back({Centre::brick, "theta", std::move(t), 1});
+  snap.fields.push_back({Centre::interface, "points", std::move(ipts), 2});
+  snap.fields.push_back({Centre::interface, "state", std::move(istate), 1});
+  snap.fields.push_back({Centre::interface, "energy", std::move(ienergy), 1});
+  return snap;
+}
+
+std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds) {
+  const auto& m = solver.model();
+  const auto& pt = solver.times();
+  std::ostringstream j;
+  j << "{\n  \"deck\": \"" << d.path << "\",\n  \"bricks\": " << m.n_bricks << ",\n  \"free_bricks\": " << m.n_free
+    << ",\n  \"interfaces\": " << m.n_interfaces << ",\n  \"colouring\": \"" << m.colouring_name
+    << "\",\n  \"colouring_rule\": \"" << d.solver.colouring << "\",\n  \"colours\": " << (m.colour_offset.size() - 1)
+    << ",\n  \"rng\": \"" << d.solver.rng << "\",\n  \"seed\": " << d.seed
+    << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency() << ",\n  \"execution_space\": \""
+    << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << steps << ",\n  \"cycles\": "
+    << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds) << ",\n  \"phase_seconds\": {\"rng\": "
+    << num(pt.rng) << ", \"sweep\": " << num(pt.sweep) << ", \"energy\": " << num(pt.energy)
+    << "},\n  \"presimulation_seconds_per_cycle\": {";
+  bool first = true;
+  for (const auto& [name, sec] : solver.presim()) {
+    j << (first ? "" : ", ") << "\"" << name << "\": " << num(sec);
+    first = false;
+  }
+  j << "}";
+  if (!solver.presim().empty()) j << ",\n  \"presimulation_pick\": \"" << m.colouring_name << "\"";
+  j << "\n}\n";
+  return j.str();
+}
+
+io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, const std::string& deck_text,
+                        double final_displacement) {
+  io::Checkpoint n;
+  n.fingerprint = fingerprint;
+  n.strings["solver"] = "mc";
+  n.strings["colouring"] = c.colouring;
+  n.strings["deck"] = deck_text;
+  n.integers["bricks"] = static_cast<std::int64_t>(c.pose.size() / 3);
+  n.integers["step"] = c.run.step;
+  n.integers["have_previous"] = c.run.have_previous ? 1 : 0;
+  n.integers["global_cycle"] = static_cast<std::int64_t>(c.global_cycle);
+  n.integers["accepted_total"] = c.accepted_total;
+  n.integers["trials_total"] = c.trials_total;
+  n.integers["window_accepted"] = c.window_accepted;
+  n.integers["window_trials"] = c.window_trials;
+  n.reals["increment"] = c.run.increment;
+  n.reals["previous_increment"] = c.run.previous_increment;
+  n.reals["displacement"] = c.displacement;
+  n.reals["step_size"] = c.step_size;
+  n.reals["rot_step"] = c.rot_step;
+  n.reals["final_displacement"] = final_displacement;
+  n.arrays["pose"] = c.pose;
+  n.arrays["previous_pose"] = c.previous_pose;
+  if (!c.brick_step.empty()) n.arrays["brick_step"] = c.brick_step;
+  return n;
+}
+
+Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t n_free) {
+  auto bad = [](const std::string& what) { throw io::CheckpointError(what); };
+  if (n.string("solver") != "mc") bad("it was written by the '" + n.string("solver") + "' solver, not by Monte Carlo");
+  Checkpoint c;
+  c.colouring = n.string("colouring");
+  const std::int64_t bricks = n.integer("bricks");
+  if (bricks != static_cast<std::int64_t>(n_bricks))
+    bad("it holds " + std::to_string(bricks) + " bricks, the deck's specimen has " + std::to_string(n_bricks));
+  auto count = [&](const char* name, std::int64_t hi) {
+    const std::int64_t v = n.integer(name);
+    if (v < 0 || v > hi) bad(std::string(name) + " = " + std::to_string(v) + " is out of range [0, " + std::to_string(hi) + "]");
+    return v;
+  };
+  constexpr std::int64_t big = std::int64_t(1) << 62;
+  c.run.step = static_cast<int>(count("step", 1000000000));
+  const std::int64_t have_prev = count("have_previous", 1);
+  c.run.have_previous = have_prev != 0;
+  const std::int64_t cycles = count("global_cycle", big);
+  c.global_cycle = static_cast<std::uint64_t>(cycles);
+  c.trials_total = count("trials_total", big);
+  c.accepted_total = count("accepted_total", c.trials_total);
+  c.window_trials = count("window_trials", c.trials_total);
+  c.window_accepted = count("window_accepted", c.window_trials);
+  if (static_cast<double>(c.trials_total) != static_cast<double>(cycles) * static_cast<double>(n_free))
+    bad("trials_total = " + std::to_string(c.trials_total) + " is not global_cycle x free bricks = " +
+        std::to_string(cycles) + " x " + std::to_string(n_free));
+  if (c.run.step > 0 && !c.run.have_previous) bad("have_previous = 0 after " + std::to_string(c.run.step) + " steps");
+  auto real = [&](const char* name, bool positive) {
+    const double v = n.real(name);
+    if (!std::isfinite(v) || v < 0 || (positive && v == 0))
+      bad(std::string(name) + " = " + num(v) + " is not " + (positive ? "positive" : "non-negative") + " and finite");
+    return v;
+  };
+  c.run.increment = real("increment", false);
+  c.run.previous_increment = real("previous_increment", false);
+  c.displacement = real("displacement", false);
+  c.step_size = real("step_size", true);
+  c.rot_step = real("rot_step", true);
+  (void)real("final_displacement", true);
+  auto poses = [&](const char* name) {
+    const auto& v = n.array(name);
+    if (v.size() != 3 * n_bricks)
+      bad(std::string(name) + " holds " + std::to_string(v.size()) + " values, expected 3 x " + std::to_string(n_bricks));
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        bad(std::string(name) + " of brick " + std::to_string(i / 3) + " is " + num(v[i]) + "; expected a finite pose");
+    return v;
+  };
+  c.pose = poses("pose");
+  c.previous_pose = poses("previous_pose");
+  if (auto it = n.arrays.find("brick_step"); it != n.arrays.end()) {
+    c.brick_step = poses("brick_step");
+    for (std::size_t i = 0; i < n_bricks; ++i) {
+      const double st = c.brick_step[3 * i], rot = c.brick_step[3 * i + 1], acc = c.brick_step[3 * i + 2];
+      if (st < 0 || rot < 0 || acc < 0 || acc != std::floor(acc) || acc > 2e9)
+        bad("brick_step of brick " + std::to_string(i) + " is out of range");
+    }
+  }
+  for (const auto& [name, v] : n.arrays)
+    if (name != "pose" && name != "previous_pose" && name != "brick_step") bad("unexpected array '" + name + "'");
+  return c;
+}
+
+}  // namespace nacre::mc
