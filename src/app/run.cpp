@@ -12,6 +12,9 @@
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "progress.hpp"
+#include "run_dynamics.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -38,14 +41,6 @@ extern char** environ;
 namespace nacre::app {
 
 namespace {
-
-std::string hms(double s) {
-  if (!(s >= 0) || s > 360000) return "--:--";
-  const long t = static_cast<long>(s + 0.5);
-  char b[32];
-  std::snprintf(b, sizeof b, "%02ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-  return b;
-}
 
 /// \brief A bad command line (exit 2).
 struct UsageError : std::runtime_error {
@@ -301,17 +296,19 @@ int main(int argc, char* argv[]) {
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
 
-  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks, Monte Carlo)"};
+  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks by Monte Carlo; deformable bricks in time with a [dynamics] section)"};
   std::string deck_path;
   std::string out_override;
   RunOptions opt;
-  bool check_only = false;
+  bool check_only = false, critical = false;
   cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
   cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
   cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
   cli.add_flag("--check", check_only, "validate the deck and exit");
   cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
       ->check(CLI::ExistingFile);
+  cli.add_flag("--critical-step", critical,
+               "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
   cli.add_flag("--overwrite", opt.overwrite,
                "start afresh even where the output directory holds the checkpoint of an unfinished run");
   cli.add_flag("--extend", opt.extend,
@@ -319,7 +316,7 @@ int main(int argc, char* argv[]) {
                "(continue a finished run further)");
   cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
              "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
-             "checkpoint, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
+             "checkpoint, 3 dynamic run stopped unstable, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
     check_kokkos_flags(kokkos_args);
@@ -343,6 +340,10 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   if (!out_override.empty()) d.output.directory = out_override;
+  if (critical && !d.dynamics.enabled) {
+    std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
+    return 2;
+  }
   if (check_only) {
     std::cout << "nacre: " << deck_path << ": deck is valid\n";
     if (opt.restart.empty()) return 0;
@@ -373,6 +374,8 @@ int main(int argc, char* argv[]) {
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
+    if (critical) return print_critical_step(d, opt.quiet);
+    if (d.dynamics.enabled) return run_dynamics(d, opt.quiet, opt.tty, opt.restart);
     return run_deck(d, opt);
   } catch (const deck::DeckError& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";

@@ -24,6 +24,7 @@ constexpr SectionReader kSections[] = {
     {"geometry", detail::read_geometry}, {"mortar", detail::read_mortar},
     {"load", detail::read_load},         {"solver", detail::read_solver},
     {"random", detail::read_random},     {"output", detail::read_output},
+    {"dynamics", detail::read_dynamics},
     {"limits", detail::read_limits},
 };
 

@@ -67,7 +67,11 @@ void canon(const toml::table& t, const std::string& prefix, std::ostringstream& 
   // toml::table iterates in key order: the text does not depend on how the deck was laid out
   for (auto&& [k, v] : t) {
     const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (key == "output" || key == "limits" || key == "load.final_displacement") continue;
+    // not physics: where outputs go, the limits, and how far the run goes (a restart may extend
+    // it: MC's final_displacement, the dynamics' end_time) or how often it writes
+    if (key == "output" || key == "limits" || key == "load.final_displacement" || key == "dynamics.end_time" ||
+        key == "dynamics.csv_interval" || key == "dynamics.dump_interval")
+      continue;
     if (auto* sub = v.as_table()) {
       canon(*sub, key, os);
       continue;

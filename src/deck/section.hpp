@@ -57,6 +57,9 @@ public:
   void reject_unknown(const std::vector<std::string>& known_for_message) const;
 
   [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::string& file() const { return file_; }
+  /// \brief The TOML table read (nullptr when the section is absent).
+  [[nodiscard]] const toml::table* table() const { return table_; }
   [[nodiscard]] int line() const { return line_; }
 
 private:
@@ -91,6 +94,7 @@ void read_load(Section& top, Deck& d);
 void read_solver(Section& top, Deck& d);
 void read_random(Section& top, Deck& d);
 void read_output(Section& top, Deck& d);
+void read_dynamics(Section& top, Deck& d);
 void read_limits(Section& top, Deck& d);
 
 }  // namespace nacre::deck::detail

@@ -5,7 +5,7 @@
 namespace nacre::app {
 
 /// \brief main() of the nacre executable; returns the process exit code
-/// (0 success, 1 runtime failure, 2 bad command line or deck).
+/// (0 success, 1 runtime failure, 2 bad command line or deck, 3 dynamic run stopped unstable).
 int main(int argc, char* argv[]);
 
 }  // namespace nacre::app

@@ -6,6 +6,7 @@
 /// missing value, out-of-range or inconsistent value) throws DeckError carrying
 /// "file:line: key: what was expected" before any computation starts.
 #include <nacre/cohesive/law.hpp>
+#include <nacre/deck/dynamics.hpp>
 
 #include <cstdint>
 #include <map>
@@ -103,6 +104,7 @@ struct Deck {
   Load load;
   MonteCarlo solver;  ///< [solver] (members are named after their TOML table)
   Output output;
+  Dynamics dynamics;  ///< enabled: the run is dynamic (Chapter 4), [solver] does not apply
   Limits limits;
   std::uint64_t seed = 1;
   /// \brief The deck's content that fixes the physics, canonical (one "section.key = value" line

@@ -1,0 +1,48 @@
+#pragma once
+/// \file
+/// \brief The deck's [dynamics] section (Chapter 4: deformable bricks in time). Its presence
+/// selects the dynamic solver instead of Monte Carlo. Units: one consistent system, N, mm, t
+/// (tonne), s; the deck's lengths are then mm and the mortar's k is N/mm^3. docs/decks.md lists
+/// every key with unit and default; docs/dynamics.md explains methods and outputs.
+///
+/// The deck knows nothing of the solver: src/app maps this struct onto dyn::Params.
+#include <cstdint>
+
+namespace nacre::deck {
+
+struct Dynamics {
+  /// \brief Integrator: UE unbolted explicit (eq. 4.4), BE bolted explicit (eq. 4.5).
+  enum class Method : std::uint8_t { ue, be };
+  /// \brief Rayleigh damping source: Table 4.2 preset, none, or alpha_d/beta_d as given.
+  enum class Damping : std::uint8_t { table, none, explicit_values };
+  /// \brief Time profile of the opening rate over ramp_time.
+  enum class Ramp : std::uint8_t { linear, smooth };
+
+  bool enabled = false;            ///< the deck has a [dynamics] section
+  Method method = Method::be;
+  double stiffness_ratio = 500;    ///< r: E = 214.99 r N/mm^2 (MODEL.md §5), unless youngs_modulus is given
+  double youngs_modulus = 0;       ///< E, N/mm^2; 0: from stiffness_ratio
+  double poisson = 0.35;           ///< nu (plane stress)
+  double density = 3.7e-9;         ///< rho, t/mm^3
+  double thickness = 1.0;          ///< out-of-plane depth, mm
+  double internal_stiffness_factor = 50;  ///< UE diagonal joints: k_int = factor * E / brick_height
+  Damping damping = Damping::table;
+  double alpha_d = 0, beta_d = 0;  ///< 1/s, s (explicit_values only)
+  double dt = 0;                   ///< time step, s; 0: dt_fraction of the critical step
+  double dt_fraction = 0.5;        ///< fraction of the critical step (when dt is 0)
+  double end_time = 0;             ///< s, required
+  double rate = 0;                 ///< opening rate dD/dt after the ramp, mm/s
+  Ramp ramp = Ramp::linear;
+  double ramp_time = 0;            ///< s; 0: full rate from t = 0
+  double thermal_strain = 0;       ///< uniform isotropic eigenstrain Theta
+  double force_top = 0;            ///< vertical force per unit length on the top edge, N/mm
+  bool share_element_matrices = true;  ///< one matrix set per element type (false: per element)
+  long csv_interval = 100;         ///< time-series row every this many steps
+  long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
+
+  /// \brief Young's modulus in N/mm^2 and the stiffness ratio it corresponds to.
+  [[nodiscard]] double modulus() const { return youngs_modulus > 0 ? youngs_modulus : 214.99 * stiffness_ratio; }
+  [[nodiscard]] double ratio() const { return modulus() / 214.99; }
+};
+
+}  // namespace nacre::deck

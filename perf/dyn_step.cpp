@@ -1,0 +1,183 @@
+// Time per step of the explicit dynamics (UE, BE) against the number of bricks, set against the
+// memory-bandwidth bound measured in the same run: bytes moved per step are counted from the
+// model's array sizes (every model view read once, the state arrays u, v, a, acc read and written
+// once: Simulation::bytes() minus the replay copy plus the write), and a Kokkos STREAM triad
+// a = b + s c gives the attainable bandwidth on the same threads. Also bytes per brick with and
+// without shared element matrices.
+//
+//   nacre_perf_dyn_step --bricks 10000,50000,100000 --methods ue,be --steps 200 --csv FILE
+//
+// Run once per thread count (--kokkos-num-threads=N); perf/run_dyn_bench.sh does that and charts.
+#include <nacre/dyn/simulation.hpp>
+#include <nacre/geometry/specimen.hpp>
+
+#include "specimen_size.hpp"
+
+#include <CLI/CLI.hpp>
+#include <Kokkos_Core.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+using namespace nacre;
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+double seconds_since(clock_type::time_point t0) {
+  return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+/// Specimen of ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending.
+deck::Deck deck_for(long bricks, double ratio) {
+  deck::Deck d;
+  size_specimen(d.geometry, bricks);  // 3.5 x 1 units, 3:2 aspect
+  const double L = 0.03;
+  auto& g = d.geometry;
+  g.width *= L, g.height *= L, g.notch_length *= L;
+  g.brick_width = 3.5 * L, g.brick_height = L;
+  g.notch_y = std::floor(0.5 * g.height / L) * L;
+  const double kx1 = 70.63;  // Table 4.1 k x1 at r = 500, N/mm^2
+  d.mortar.bed = d.mortar.head = {7000.0, kx1 / 7000.0, 22.0 / kx1};
+  d.load.tension = 0, d.load.bending = 1, d.load.final_displacement = 0.01;
+  d.dynamics.enabled = true;
+  d.dynamics.stiffness_ratio = ratio;
+  return d;
+}
+
+dyn::Params params_for(const deck::Deck& d, dyn::Method m) {
+  dyn::Params p;
+  p.method = m;
+  p.youngs_modulus = d.dynamics.modulus();
+  p.rate = 1000.0;  // mm/s: a load is on, so the interface kernels do real work
+  p.final_displacement = d.load.final_displacement;
+  p.tension = d.load.tension, p.bending = d.load.bending;
+  return p;
+}
+
+/// Best-of-`reps` STREAM triad bandwidth (bytes/s, 3 arrays of n doubles counted) on `space`.
+double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n, int reps) {
+  using V = Kokkos::View<double*, Kokkos::DefaultExecutionSpace::memory_space>;
+  V a(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_a"), n);
+  V b(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_b"), n);
+  V c(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_c"), n);
+  const auto range = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(space, 0, n);
+  Kokkos::parallel_for("nacre::perf::triad_init", range, KOKKOS_LAMBDA(std::size_t i) {
+    a(i) = 0, b(i) = 1.0 + 1e-9 * static_cast<double>(i), c(i) = 2.0;
+  });
+  space.fence();
+  double best = 1e300;
+  const double s = 0.5;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = clock_type::now();
+    Kokkos::parallel_for("nacre::perf::triad", range, KOKKOS_LAMBDA(std::size_t i) { a(i) = b(i) + s * c(i); });
+    space.fence();
+    best = std::min(best, seconds_since(t0));
+  }
+  return 3.0 * 8.0 * static_cast<double>(n) / best;
+}
+
+std::size_t state_bytes(const dyn::StateArrays& s) {
+  std::size_t b = 0;
+  for (const char* k : {"u", "v", "a", "acc"})
+    if (auto it = s.find(k); it != s.end()) b += it->second.size() * sizeof(double);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  Kokkos::ScopeGuard guard(argc, argv);
+  CLI::App cli{"nacre dynamics time per step vs bricks, against a Kokkos triad"};
+  std::vector<long> sizes{10000, 50000, 100000};
+  std::vector<std::string> methods{"ue", "be"};
+  long steps = 200;
+  int blocks = 3;
+  double ratio = 500;
+  std::size_t triad_n = std::size_t(1) << 25;
+  std::string csv;
+  cli.add_option("--bricks", sizes)->delimiter(',');
+  cli.add_option("--methods", methods)->delimiter(',');
+  cli.add_option("--steps", steps, "steps per timed block");
+  cli.add_option("--blocks", blocks, "timed blocks (best is kept)");
+  cli.add_option("--ratio", ratio, "stiffness ratio r");
+  cli.add_option("--triad-n", triad_n, "doubles per triad array");
+  cli.add_option("--csv", csv)->required();
+  cli.allow_extras();
+  CLI11_PARSE(cli, argc, argv);
+
+  const Kokkos::DefaultExecutionSpace space;
+  const int threads = space.concurrency();
+  const double triad = triad_bandwidth(space, triad_n, 10);
+  std::cout << "[dyn_step] " << threads << " threads: triad " << triad / 1e9 << " GB/s (" << triad_n
+            << " doubles per array)\n";
+  const bool header = !std::ifstream(csv).good();
+  std::ofstream out(csv, std::ios::app);
+  if (header)
+    out << "method,bricks,threads,element_types,steps,seconds_per_step,bytes_per_step,state_bytes,device_bytes,"
+           "bytes_per_brick,bytes_per_brick_unshared,effective_bandwidth,triad_bandwidth,bound_ratio,dt\n";
+  // a stable step per method from a small specimen of the same bricks (the critical step is local)
+  std::map<std::string, double> dt;
+  for (const auto& mname : methods) {
+    const deck::Deck ds = deck_for(600, ratio);
+    geometry::Specimen ss = geometry::build_specimen(ds.geometry);
+    const geometry::Interfaces fs = geometry::find_interfaces(ss, ds.geometry);
+    dt[mname] = 0.5 * dyn::critical_step(params_for(ds, mname == "ue" ? dyn::Method::ue : dyn::Method::be), ss, fs,
+                                         ds.mortar, 1000, 0.05);
+  }
+  for (long n : sizes) {
+    const deck::Deck d = deck_for(n, ratio);
+    geometry::Specimen s = geometry::build_specimen(d.geometry);
+    const geometry::Interfaces f = geometry::find_interfaces(s, d.geometry);
+    for (const auto& mname : methods) {
+      const dyn::Method m = mname == "ue" ? dyn::Method::ue : dyn::Method::be;
+      dyn::Params p = params_for(d, m);
+      p.dt = dt[mname];
+      std::size_t unshared = 0;
+      {
+        dyn::Params q = p;
+        q.share_element_matrices = false;
+        unshared = dyn::Simulation(q, s, f, d.mortar).bytes();
+      }
+      dyn::Simulation sim(p, s, f, d.mortar);
+      if (!sim.advance(space, 20)) {
+        std::cerr << "[dyn_step] " << mname << " " << n << ": unstable warm-up: " << sim.why() << "\n";
+        return 1;
+      }
+      double best = 1e300;
+      for (int b = 0; b < blocks; ++b) {
+        space.fence();
+        const auto t0 = clock_type::now();
+        const bool ok = sim.advance(space, steps);
+        space.fence();
+        const double t = seconds_since(t0) / static_cast<double>(steps);
+        if (!ok) {
+          std::cerr << "[dyn_step] " << mname << " " << n << ": unstable: " << sim.why() << "\n";
+          return 1;
+        }
+        best = std::min(best, t);
+      }
+      const std::size_t held = sim.bytes(), st = state_bytes(sim.save_state());
+      // held = model views + state + the replay copy of the state; a step reads the model once
+      // and reads and writes the state once: moved = (held - 2 st) + 2 st = held
+      const double moved = static_cast<double>(held - 2 * st) + 2.0 * static_cast<double>(st);
+      const double eff = moved / best;
+      const double nb = static_cast<double>(sim.bricks());
+      out << mname << "," << sim.bricks() << "," << threads << "," << sim.element_types() << "," << steps << ","
+          << best << "," << moved << "," << st << "," << held << "," << static_cast<double>(held) / nb << ","
+          << static_cast<double>(unshared) / nb << "," << eff << "," << triad << "," << triad / eff << "," << p.dt
+          << "\n";
+      out.flush();
+      std::cout << "[dyn_step] " << mname << " " << sim.bricks() << " bricks, " << threads << " threads: "
+                << best * 1e3 << " ms/step, " << moved / 1e6 << " MB/step, " << eff / 1e9 << " GB/s = triad / "
+                << triad / eff << "; " << static_cast<double>(held) / nb << " B/brick shared, "
+                << static_cast<double>(unshared) / nb << " unshared\n";
+    }
+  }
+  return 0;
+}

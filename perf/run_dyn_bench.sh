@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Dynamics time per step vs bricks (UE, BE; 1 and 2 threads) against a Kokkos triad measured in
+# the same process, bytes per step and per brick (shared / unshared element matrices).
+# Usage (from the repository root, on the host):
+#   devenv/nacre-env run perf/run_dyn_bench.sh [OUTDIR]      (default perf/results/dyn_step)
+# Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block: NACRE_DYN_STEPS.
+# Writes OUTDIR/{dyn_step.csv, dyn_step.json, dyn_step.png}.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${1:-perf/results/dyn_step}"
+mkdir -p "$out"
+echo "[perf] building (preset openmp)"
+cmake --preset openmp >/dev/null && cmake --build build/openmp -j2 --target nacre_perf_dyn_step >/dev/null
+export OMP_PROC_BIND=spread OMP_PLACES=threads
+rm -f "$out/dyn_step.csv"
+for nt in 1 2; do
+  echo "[perf] time per step, $nt thread(s)"
+  build/openmp/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
+    --steps "${NACRE_DYN_STEPS:-100}" --csv "$out/dyn_step.csv" --kokkos-num-threads=$nt
+done
+python3 perf/plot_dyn_bench.py "$out"

@@ -1,0 +1,341 @@
+// The dynamic-run driver: deck -> dyn::Params, specimen and interfaces, the dyn::Simulation
+// advanced in chunks (one chunk per time-series row), progress with ETA, dumps + checkpoints,
+// restart, and the stop on instability (exit 3, last good outputs kept, no NaN written).
+#include "run_dynamics.hpp"
+
+#include "dyn_output.hpp"
+#include "progress.hpp"
+
+#include <nacre/app/signals.hpp>
+#include <nacre/geometry/specimen.hpp>
+
+#include <Kokkos_Core.hpp>
+#include <Kokkos_Profiling_ScopedRegion.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#ifndef NACRE_PLOT_SCRIPT
+#define NACRE_PLOT_SCRIPT ""
+#endif
+
+namespace nacre::app {
+
+namespace {
+
+/// Bisection settings of the critical step (docs/dynamics.md states the criterion).
+constexpr long critical_trial_steps = 2000;
+constexpr double critical_rtol = 0.01;
+
+const char* method_name(dyn::Method m) { return m == dyn::Method::ue ? "ue" : "be"; }
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+struct Setup {
+  geometry::Specimen specimen;
+  geometry::Interfaces interfaces;
+};
+
+Setup build(const deck::Deck& d) {
+  Kokkos::Profiling::ScopedRegion region("nacre::geometry::build");
+  Setup s;
+  s.specimen = geometry::build_specimen(d.geometry);
+  s.interfaces = geometry::find_interfaces(s.specimen, d.geometry);
+  return s;
+}
+
+/// The first non-finite quantity of a row, or "".
+std::string non_finite(const SeriesRow& r) {
+  const std::pair<double, const char*> v[] = {{r.time, "time"},
+                                              {r.displacement, "applied displacement"},
+                                              {r.e.strain, "strain energy"},
+                                              {r.e.kinetic, "kinetic energy"},
+                                              {r.e.cohesive, "cohesive energy"},
+                                              {r.e.damping_dissipated, "damping dissipation"},
+                                              {r.e.external_work, "external work"},
+                                              {r.e.balance_residual, "energy balance residual"},
+                                              {r.reaction, "reaction force"}};
+  for (auto [x, name] : v)
+    if (!std::isfinite(x)) return name;
+  return "";
+}
+
+/// The first non-finite state value ("state array v[12]"), or "".
+std::string non_finite(const dyn::StateArrays& a) {
+  for (const auto& [k, v] : a)
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i])) return "state array " + k + "[" + std::to_string(i) + "]";
+  return "";
+}
+
+void run_charts(const std::filesystem::path& dir, std::ostream* log) {
+  const char* env = std::getenv("NACRE_PLOT_SCRIPT");
+  const std::filesystem::path mc_script = env ? env : NACRE_PLOT_SCRIPT;
+  const std::filesystem::path script = mc_script.parent_path() / "nacre_dyn_plot.py";
+  if (mc_script.empty() || !std::filesystem::exists(script)) {
+    std::cerr << "nacre: warning: plotting script nacre_dyn_plot.py not found; charts skipped\n";
+    return;
+  }
+  const std::string cmd = "python3 '" + script.string() + "' '" + dir.string() + "'";
+  if (std::system(cmd.c_str()) != 0) std::cerr << "nacre: warning: chart script failed: " << cmd << "\n";
+  else if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
+}
+
+}  // namespace
+
+dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
+  const auto& D = d.dynamics;
+  dyn::Params p;
+  p.method = D.method == deck::Dynamics::Method::ue ? dyn::Method::ue : dyn::Method::be;
+  p.youngs_modulus = D.modulus();
+  p.poisson = D.poisson;
+  p.density = D.density;
+  p.thickness = D.thickness;
+  p.internal_stiffness_factor = D.internal_stiffness_factor;
+  switch (D.damping) {
+    case deck::Dynamics::Damping::table: dyn::table_4_2_damping(bricks, D.ratio(), p.alpha_d, p.beta_d); break;
+    case deck::Dynamics::Damping::none: p.alpha_d = p.beta_d = 0; break;
+    case deck::Dynamics::Damping::explicit_values: p.alpha_d = D.alpha_d, p.beta_d = D.beta_d; break;
+  }
+  p.dt = D.dt;
+  p.rate = D.rate;
+  p.ramp_time = D.ramp_time;
+  p.ramp = D.ramp == deck::Dynamics::Ramp::smooth ? dyn::Ramp::smooth : dyn::Ramp::linear;
+  p.final_displacement = d.load.final_displacement;
+  p.tension = d.load.tension;
+  p.bending = d.load.bending;
+  p.thermal_strain = D.thermal_strain;
+  p.force_top = D.force_top;
+  p.share_element_matrices = D.share_element_matrices;
+  return p;
+}
+
+int print_critical_step(const deck::Deck& d, bool quiet) {
+  const Setup s = build(d);
+  dyn::Params p = dynamics_params(d, s.specimen.size());
+  p.dt = 0;
+  const double h = dyn::critical_step(p, s.specimen, s.interfaces, d.mortar, critical_trial_steps, critical_rtol);
+  if (!std::isfinite(h) || h <= 0) {
+    std::cerr << "nacre: error: critical step search failed (" << h << ")\n";
+    return 1;
+  }
+  if (quiet) {
+    std::printf("%.6g\n", h);
+    return 0;
+  }
+  std::printf("nacre: %s: %zu bricks, method %s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
+              d.path.c_str(), s.specimen.size(), method_name(p.method), p.youngs_modulus, d.dynamics.ratio(),
+              p.alpha_d, p.beta_d);
+  std::printf("critical step: %.6g s (relative tolerance %g: bisection over %ld-step trials from rest under the "
+              "deck's load)\n",
+              h, critical_rtol, critical_trial_steps);
+  if (d.dynamics.dt > 0)
+    std::printf("deck dt = %.6g s = %.3f x critical%s\n", d.dynamics.dt, d.dynamics.dt / h,
+                d.dynamics.dt > h ? " (ABOVE the critical step: the run will blow up)" : "");
+  else
+    std::printf("deck dt_fraction = %g: dt = %.6g s\n", d.dynamics.dt_fraction, d.dynamics.dt_fraction * h);
+  return 0;
+}
+
+int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& restart) {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
+  std::ostream* log = quiet ? nullptr : &std::cout;
+  const auto& D = d.dynamics;
+
+  const Setup setup = build(d);
+  const auto& specimen = setup.specimen;
+  const auto& interfaces = setup.interfaces;
+  dyn::Params p = dynamics_params(d, specimen.size());
+  if (log)
+    *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
+         << " interfaces, dynamics " << method_name(p.method) << " (E = " << p.youngs_modulus
+         << " N/mm^2, alpha_d = " << p.alpha_d << " 1/s, beta_d = " << p.beta_d << " s), "
+         << Kokkos::DefaultExecutionSpace::name() << " with " << Kokkos::DefaultExecutionSpace().concurrency()
+         << " threads\n";
+
+  DynCheckpoint cp;
+  double h_crit = 0;
+  if (!restart.empty()) {
+    cp = DynWriter::read_checkpoint(restart, d);
+    if (cp.method != method_name(p.method))
+      throw std::runtime_error(restart + ": checkpoint of method " + cp.method + ", the deck says " +
+                               method_name(p.method));
+    p.dt = cp.dt;  // the run continues with the step it started with
+  } else if (D.dt <= 0) {
+    Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
+    h_crit = dyn::critical_step(p, specimen, interfaces, d.mortar, critical_trial_steps, critical_rtol);
+    if (!std::isfinite(h_crit) || h_crit <= 0)
+      throw std::runtime_error("critical step search failed (" + num(h_crit) + ")");
+    p.dt = D.dt_fraction * h_crit;
+    if (log)
+      *log << "nacre: critical step " << h_crit << " s (rtol " << critical_rtol << "), dt = " << D.dt_fraction
+           << " x = " << p.dt << " s (" << elapsed() << " s)\n";
+  }
+  const long total = std::max(1L, static_cast<long>(std::ceil(D.end_time / p.dt - 1e-9)));
+
+  dyn::Simulation sim(p, specimen, interfaces, d.mortar);
+  if (!restart.empty()) {
+    sim.restore_state(cp.state);
+    if (sim.steps() != cp.step)
+      throw std::runtime_error(restart + ": restored state is at step " + std::to_string(sim.steps()) +
+                               ", the checkpoint says " + std::to_string(cp.step));
+    if (log) *log << "nacre: restarting from " << restart << " at step " << cp.step << ", t = " << cp.time << " s\n";
+  }
+  if (log)
+    *log << "nacre: dt = " << p.dt << " s, " << total << " steps to t = " << D.end_time << " s; "
+         << sim.element_types() << " element types, " << sim.bytes() / 1048576.0 << " MiB on the device\n";
+
+  DynWriter writer(d, specimen, interfaces, sim.snapshot(), restart.empty() ? -1 : cp.step);
+  auto make_row = [&] {
+    SeriesRow r;
+    r.step = sim.steps();
+    r.time = sim.time();
+    r.displacement = sim.displacement();
+    r.e = sim.energies();
+    r.reaction = sim.reaction();
+    r.ruptured = sim.ruptured();
+    r.seconds = elapsed();
+    return r;
+  };
+  auto checkpoint = [&] {
+    DynCheckpoint c;
+    c.step = sim.steps();
+    c.time = sim.time();
+    c.dt = p.dt;
+    c.method = method_name(p.method);
+    c.state = sim.save_state();
+    return c;
+  };
+  const double t_run = elapsed();
+  const long step0 = sim.steps();
+  std::string status = "done", why;
+  const bool progress = tty && d.output.progress && !quiet;
+
+  auto summary = [&] {
+    std::ostringstream j;
+    j << "{\n  \"deck\": \"" << d.path << "\",\n  \"solver\": \"dynamics\",\n  \"method\": \"" << method_name(p.method)
+      << "\",\n  \"status\": \"" << status << "\",\n  \"bricks\": " << specimen.size()
+      << ",\n  \"interfaces\": " << interfaces.size() << ",\n  \"element_types\": " << sim.element_types()
+      << ",\n  \"device_bytes\": " << sim.bytes() << ",\n  \"youngs_modulus\": " << num(p.youngs_modulus)
+      << ",\n  \"stiffness_ratio\": " << num(D.ratio()) << ",\n  \"alpha_d\": " << num(p.alpha_d)
+      << ",\n  \"beta_d\": " << num(p.beta_d) << ",\n  \"dt\": " << num(p.dt)
+      << ",\n  \"critical_step\": " << (h_crit > 0 ? num(h_crit) : "null") << ",\n  \"steps\": " << sim.steps()
+      << ",\n  \"time\": " << num(sim.time()) << ",\n  \"end_time\": " << num(D.end_time)
+      << ",\n  \"ruptured\": " << sim.ruptured() << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency()
+      << ",\n  \"execution_space\": \"" << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"seconds\": "
+      << num(elapsed()) << ",\n  \"seconds_per_step\": "
+      << num(sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0.0) << "\n}\n";
+    writer.summary(j.str());
+  };
+  // Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.
+  auto unstable = [&](const std::string& message) {
+    if (progress) std::fprintf(stderr, "\n");
+    status = "unstable";
+    why = message;
+    writer.flush_series();
+    summary();
+    std::cerr << "nacre: error: unstable: " << message << "\n"
+              << "nacre: kept " << writer.rows() << " rows of series.csv; last dump and checkpoint at step "
+              << writer.last_dump_step() << "; try a smaller dt (nacre " << d.path << " --critical-step)\n";
+    return exit_unstable;
+  };
+
+  if (restart.empty()) {
+    const SeriesRow r = make_row();
+    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
+    writer.row(r);
+    const dyn::Snapshot snap = sim.snapshot();
+    if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
+    writer.dump(0, snap, checkpoint());
+  }
+
+  SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
+  double last_flush = elapsed(), last_progress = -1;
+  const Kokkos::DefaultExecutionSpace space;
+  long step = sim.steps();
+  while (step < total) {
+    long next = std::min(total, (step / D.csv_interval + 1) * D.csv_interval);
+    if (D.dump_interval > 0) next = std::min(next, (step / D.dump_interval + 1) * D.dump_interval);
+    bool ok;
+    {
+      Kokkos::Profiling::ScopedRegion region("nacre::app::advance");
+      ok = sim.advance(space, next - step);
+    }
+    if (!ok) return unstable(sim.why());
+    step = sim.steps();
+    const SeriesRow r = make_row();
+    if (auto q = non_finite(r); !q.empty())
+      return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+    writer.row(r);
+    const bool dump = step == total || (D.dump_interval > 0 && step % D.dump_interval == 0);
+    if (dump) {
+      const dyn::Snapshot snap = sim.snapshot();
+      if (auto q = first_non_finite(snap); !q.empty())
+        return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+      DynCheckpoint c = checkpoint();
+      if (auto q = non_finite(c.state); !q.empty())
+        return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+      writer.dump(step, snap, c);
+      last_flush = elapsed();
+      if (log && !progress)
+        *log << "  step " << step << "/" << total << ": t = " << r.time << " s, D = " << r.displacement
+             << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
+             << ", ruptured " << r.ruptured << "\n";
+    } else if (elapsed() - last_flush > 2.0) {
+      writer.flush_series();
+      last_flush = elapsed();
+    }
+    if (const int sig = pending_signal(); sig != 0 && step < total) {
+      if (progress) std::fprintf(stderr, "\n");
+      if (!dump) {  // the rows so far are written; the checkpoint holds this completed step
+        DynCheckpoint c = checkpoint();
+        if (auto q = non_finite(c.state); !q.empty())
+          return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+        writer.write_checkpoint(writer.directory() / "checkpoint.h5", c);
+      }
+      writer.flush_series();
+      status = "interrupted";
+      summary();
+      std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
+                << " s); checkpoint written to " << (writer.directory() / "checkpoint.h5").string()
+                << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string()
+                << " --restart " << (writer.directory() / "checkpoint.h5").string() << "\n";
+      return 128 + sig;
+    }
+    if (progress && (elapsed() - last_progress > 0.25 || step == total)) {
+      last_progress = elapsed();
+      const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
+      const double spent = elapsed() - t_run;
+      std::fprintf(stderr, "\r  step %ld/%ld  t %.4g/%.4g s  D %.4g  F %.4g  ruptured %d  elapsed %s  left ~%s   ",
+                   step, total, r.time, D.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
+                   hms(frac > 0 ? spent / frac - spent : -1).c_str());
+      std::fflush(stderr);
+    }
+  }
+  if (progress) std::fprintf(stderr, "\n");
+  writer.flush_series();
+  summary();
+  if (log) {
+    const double per = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0;
+    *log << "nacre: done in " << elapsed() << " s; " << sim.steps() << " steps (" << per * 1e6 << " us/step), t = "
+         << sim.time() << " s, " << sim.ruptured() << " interfaces ruptured\n";
+    *log << "nacre: results in " << writer.directory().string()
+         << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
+  }
+  if (d.output.charts) run_charts(writer.directory(), log);
+  return 0;
+}
+
+}  // namespace nacre::app

@@ -1,0 +1,25 @@
+#pragma once
+// The driver of a dynamic run (deck with a [dynamics] section): deck -> dyn::Params, the run loop
+// with outputs, and the --critical-step command. run.cpp only dispatches here.
+#include <nacre/deck/deck.hpp>
+#include <nacre/dyn/simulation.hpp>
+
+#include <cstddef>
+#include <string>
+
+namespace nacre::app {
+
+/// \brief Exit code of a run stopped by an instability (non-finite value or energy blow-up).
+inline constexpr int exit_unstable = 3;
+
+/// \brief dyn::Params of a deck's [dynamics] (and [load]) section; the Table 4.2 damping preset
+/// needs the specimen's brick count. dt is the deck's dt (0 when the deck gives dt_fraction).
+[[nodiscard]] dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks);
+
+/// \brief Run a dynamic deck (0 done, 3 unstable); `restart` is a checkpoint.h5 or "".
+int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& restart);
+
+/// \brief Print the largest stable step of the deck's method (bisection, dyn::critical_step).
+int print_critical_step(const deck::Deck& d, bool quiet);
+
+}  // namespace nacre::app

@@ -1,0 +1,108 @@
+// [dynamics]: its presence selects the dynamic solver (Chapter 4). The reader also rejects the
+// Monte Carlo keys a dynamic run would silently ignore ([solver], the load-step keys of [load],
+// [output] DumpInter), so a deck never means something it does not do.
+#include <nacre/deck/deck.hpp>
+
+#include "../section.hpp"
+
+namespace nacre::deck::detail {
+
+namespace {
+
+/// \brief Fail at the first of `keys` present in table `name` of the root (a key that does not
+/// apply to a dynamic run).
+void reject_mc_keys(const Section& top, const toml::table& root, const char* name,
+                    std::initializer_list<const char*> keys, const std::string& why) {
+  const toml::table* t = root.get_as<toml::table>(name);
+  if (!t) return;
+  const Section s(top.file(), name, t, static_cast<int>(t->source().begin.line));
+  for (const char* k : keys)
+    if (t->contains(k)) s.fail(k, why);
+}
+
+}  // namespace
+
+void read_dynamics(Section& top, Deck& d) {
+  Section s = top.sub("dynamics");
+  if (!s.present()) return;
+  const toml::table& root = *top.table();
+  auto& D = d.dynamics;
+  D.enabled = true;
+
+  if (root.contains("solver"))
+    top.fail("solver", "the Monte Carlo [solver] section does not apply to a [dynamics] deck; remove one of the two");
+  reject_mc_keys(top, root, "load",
+                 {"initial_step", "InitialLoadStepSize", "min_step", "MinLoadStepSize", "max_step", "MaxLoadStepSize",
+                  "adaptive", "predictor"},
+                 "a Monte Carlo load-step key; a [dynamics] run loads at [dynamics] rate (remove it)");
+  reject_mc_keys(top, root, "output", {"dump_interval", "DumpInter"},
+                 "counts Monte Carlo load steps; a [dynamics] deck sets [dynamics] dump_interval (time steps)");
+
+  std::string method = D.method == Dynamics::Method::ue ? "ue" : "be";
+  s.string("method", method, {"ue", "be"}, "\"ue\" (unbolted explicit, eq. 4.4) or \"be\" (bolted explicit, eq. 4.5)");
+  D.method = method == "ue" ? Dynamics::Method::ue : Dynamics::Method::be;
+
+  const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
+  const bool has_e = s.find("youngs_modulus", {}) != nullptr;
+  if (has_ratio && has_e)
+    s.fail("youngs_modulus", "given together with stiffness_ratio; expected one of the two (E = 214.99 r N/mm^2)");
+  s.number("stiffness_ratio", {}, D.stiffness_ratio, positive, "a positive ratio r (E = 214.99 r N/mm^2)");
+  s.number("youngs_modulus", {}, D.youngs_modulus, positive, "a positive modulus in N/mm^2");
+  s.number("poisson", {}, D.poisson, [](double v) { return v > -1 && v < 0.5; }, "a Poisson ratio in (-1, 0.5)");
+  s.number("density", {}, D.density, positive, "a positive density in t/mm^3 (3.7 g/cm^3 = 3.7e-9)");
+  s.number("thickness", {}, D.thickness, positive, "a positive out-of-plane depth in mm");
+  s.number("internal_stiffness_factor", {}, D.internal_stiffness_factor, positive,
+           "a positive factor (internal joint stiffness = factor * E / brick_height)");
+
+  // damping: "table" | "none", or explicit alpha_d / beta_d (then no damping key)
+  const bool has_alpha = s.find("alpha_d", {}) != nullptr, has_beta = s.find("beta_d", {}) != nullptr;
+  std::string damping;
+  s.string("damping", damping, {"table", "none"},
+           "\"table\" (Table 4.2 by brick count and ratio) or \"none\"; or give alpha_d and beta_d instead");
+  if ((has_alpha || has_beta) && !damping.empty())
+    s.fail(has_alpha ? "alpha_d" : "beta_d",
+           "given together with damping = \"" + damping + "\"; expected either damping or alpha_d/beta_d");
+  if (has_alpha || has_beta) {
+    D.damping = Dynamics::Damping::explicit_values;
+    s.number("alpha_d", {}, D.alpha_d, non_negative, "a non-negative mass-proportional damping in 1/s");
+    s.number("beta_d", {}, D.beta_d, non_negative, "a non-negative stiffness-proportional damping in s");
+  } else {
+    D.damping = damping == "none" ? Dynamics::Damping::none : Dynamics::Damping::table;
+  }
+
+  // time step: dt, or a fraction of the critical step (default 0.5)
+  const bool has_dt = s.find("dt", {}) != nullptr, has_frac = s.find("dt_fraction", {}) != nullptr;
+  if (has_dt && has_frac) s.fail("dt_fraction", "given together with dt; expected one of the two");
+  s.number("dt", {}, D.dt, positive, "a positive time step in s");
+  s.number("dt_fraction", {}, D.dt_fraction, [](double v) { return v > 0 && v <= 1; },
+           "a fraction of the critical step in (0, 1]");
+  if (has_dt) D.dt_fraction = 0;
+
+  s.number("end_time", {}, D.end_time, positive, "a positive end time in s", true);
+  s.number("rate", {}, D.rate, non_negative, "a non-negative opening rate dD/dt in mm/s");
+  std::string ramp = D.ramp == Dynamics::Ramp::smooth ? "smooth" : "linear";
+  s.string("ramp", ramp, {"linear", "smooth"},
+           "\"linear\" (rate grows linearly over ramp_time) or \"smooth\" (rate ramps as (1 - cos(pi t / ramp_time)) / 2)");
+  D.ramp = ramp == "smooth" ? Dynamics::Ramp::smooth : Dynamics::Ramp::linear;
+  s.number("ramp_time", {}, D.ramp_time, non_negative, "a non-negative time in s");
+  s.number("thermal_strain", {}, D.thermal_strain, [](double v) { return std::abs(v) < 0.1; },
+           "an eigenstrain with |Theta| < 0.1 (small strain)");
+  s.number("force_top", {}, D.force_top, [](double) { return true; }, "a force per unit length in N/mm");
+  s.boolean("share_element_matrices", D.share_element_matrices);
+  s.integer("csv_interval", {}, D.csv_interval, 1, 1000000000000L, "a step count >= 1");
+  s.integer("dump_interval", {}, D.dump_interval, 0, 1000000000000L, "a step count >= 0 (0: first and last only)");
+
+  if (D.rate == 0 && D.force_top == 0 && D.thermal_strain == 0)
+    s.fail("rate", "no load: rate, force_top and thermal_strain are all zero; expected at least one non-zero");
+  if (D.ramp_time > D.end_time)
+    s.fail("ramp_time", "ramp longer than the run; expected ramp_time <= end_time");
+  if (has_dt && D.end_time / D.dt > 1e12)
+    s.fail("dt", "end_time / dt exceeds 1e12 steps; expected a larger dt or a shorter end_time");
+
+  s.reject_unknown({"method", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
+                    "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
+                    "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
+                    "csv_interval", "dump_interval"});
+}
+
+}  // namespace nacre::deck::detail

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Charts of a dynamic nacre run (sibling of nacre_plot.py, which charts Monte Carlo runs):
+energy_force.png: energies against time, the energy-balance residual, and the reaction force
+against the applied displacement; crack.png: the deformed triangle mesh of the last dump (or of
+DUMP) coloured by each brick's vertical stress (Fig. 4.5), ruptured interfaces in black.
+Usage: nacre_dyn_plot.py OUTPUT_DIR [DUMP.h5] [--magnify M]"""
+import csv
+import glob
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+
+
+def series(out):
+    rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]} if rows else None
+
+
+def energy_force(out, s):
+    t = s["time"] * 1e6  # µs
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
+    for key, label in [("strain_energy", "strain"), ("kinetic_energy", "kinetic"), ("cohesive_energy", "cohesive"),
+                       ("damping_dissipated", "damping (dissipated)"), ("external_work", "external work")]:
+        ax[0].plot(t, s[key], label=label)
+    total = s["strain_energy"] + s["kinetic_energy"] + s["cohesive_energy"] + s["damping_dissipated"]
+    ax[0].plot(t, total, "k--", lw=0.8, label="sum of the four")
+    ax[0].set_xlabel("time (µs)")
+    ax[0].set_ylabel("energy (N mm)")
+    ax[0].legend(fontsize=8)
+    ax[1].semilogy(t, np.maximum(np.abs(s["balance_residual"]), 1e-17))
+    ax[1].set_xlabel("time (µs)")
+    ax[1].set_ylabel("|energy balance residual| (relative)")
+    ax[2].plot(s["displacement"], s["reaction"], color="C1")
+    ax[2].set_xlabel("applied displacement D (mm)")
+    ax[2].set_ylabel("reaction force (N)")
+    a2 = ax[2].twinx()
+    a2.plot(s["displacement"], s["ruptured"], ":", color="C3")
+    a2.set_ylabel("ruptured interfaces", color="C3")
+    fig.suptitle(os.path.basename(os.path.abspath(out)))
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "energy_force.png"), dpi=120)
+    plt.close(fig)
+
+
+def crack(out, dump, magnify=None, target=None):
+    import h5py
+    with h5py.File(os.path.join(out, "mesh.h5"), "r") as m, h5py.File(dump, "r") as d:
+        conn = m["/triangles/connectivity"][:]
+        ref = m["/nodes/reference"][:]
+        tri_brick = m["/triangles/brick"][:]
+        iref = m["/interfaces/reference_points"][:].reshape(-1, 2, 2) if "/interfaces/reference_points" in m else None
+        u = d["/nodes/displacement"][:, :2]
+        syy = d["/bricks/syy"][:]
+        ipts = d["/interfaces/points"][:].reshape(-1, 2, 2) if "/interfaces/points" in d else None
+        state = d["/interfaces/state"][:] if "/interfaces/state" in d else None
+        time, disp = float(d.attrs["time"]), float(d.attrs["displacement"])
+    # displacements are small next to a brick: magnify them so the crack opening shows
+    e1, e2 = ref[conn[:, 1]] - ref[conn[:, 0]], ref[conn[:, 2]] - ref[conn[:, 0]]
+    size = np.sqrt(np.median(np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])))
+    umax = np.abs(u).max()
+    mag = magnify if magnify else (0.5 * size / umax if umax > 0 else 1.0)
+    pts = ref + mag * u
+    lim = np.percentile(np.abs(syy), 99) if len(syy) else 1.0
+    lim = lim if lim > 0 else 1.0
+    w = ref[:, 0].max() - ref[:, 0].min()
+    h = ref[:, 1].max() - ref[:, 1].min()
+    fig, ax = plt.subplots(figsize=(min(14, 3 + 9 * w / max(h, w)), min(10, 1.5 + 9 * h / max(h, w))))
+    pc = PolyCollection(pts[conn], array=syy[tri_brick], cmap="RdBu_r", edgecolors="face", linewidths=0.3,
+                        clim=(-lim, lim))
+    ax.add_collection(pc)
+    fig.colorbar(pc, ax=ax, shrink=0.7, label="vertical stress per brick (N/mm²)")
+    nr = 0
+    if ipts is not None and state is not None and len(state):
+        ipts = iref + mag * (ipts - iref)
+        broken = ipts[state == 2]
+        nr = len(broken)
+        ax.add_collection(LineCollection(broken, colors="black", linewidths=1.0))
+    ax.autoscale()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"t = {time * 1e6:.4g} µs, D = {disp:.4g} mm (displacements x{mag:.3g}): {nr} ruptured (black)")
+    fig.tight_layout()
+    fig.savefig(target or os.path.join(out, "crack.png"), dpi=130)
+    plt.close(fig)
+
+
+def main(argv):
+    args = [a for a in argv if not a.startswith("--")]
+    mag = None
+    if "--magnify" in argv:
+        mag = float(argv[argv.index("--magnify") + 1])
+        args.remove(argv[argv.index("--magnify") + 1])
+    if not args:
+        sys.exit(__doc__)
+    out = args[0]
+    s = series(out)
+    if s is not None and len(s["time"]) > 1:
+        energy_force(out, s)
+    dumps = sorted(glob.glob(os.path.join(out, "dump_*.h5")))
+    dump = args[1] if len(args) > 1 else (dumps[-1] if dumps else None)
+    if dump and os.path.exists(os.path.join(out, "mesh.h5")):
+        crack(out, dump, mag)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

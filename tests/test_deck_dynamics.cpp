@@ -1,0 +1,147 @@
+// The [dynamics] section: defaults, every key read, and every error naming file, line and key.
+#include <nacre/deck/deck.hpp>
+
+#include <catch2/catch_test_macros.hpp>
+#include <catch2/matchers/catch_matchers_string.hpp>
+
+#include <string>
+
+using namespace nacre::deck;
+using Catch::Matchers::ContainsSubstring;
+using Catch::Matchers::StartsWith;
+
+namespace {
+// line 15 is [dynamics], line 16 its first key
+const std::string base = R"([geometry]
+width = 0.63
+height = 0.3
+brick_width = 0.105
+brick_height = 0.03
+notch_length = 0.21
+
+[mortar]
+k = 7000.0
+x1 = 0.002
+x2 = 0.002
+
+[load]
+final_displacement = 0.001
+[dynamics]
+end_time = 1e-5
+rate = 100.0
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_deck_string(text, "dyn.toml");
+  } catch (const DeckError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("a [dynamics] section selects the dynamic solver, with documented defaults", "[deck][dyn]") {
+  const Deck d = parse_deck_string(base, "dyn.toml");
+  const auto& D = d.dynamics;
+  CHECK(D.enabled);
+  CHECK(D.method == Dynamics::Method::be);
+  CHECK(D.modulus() == 214.99 * 500);
+  CHECK(D.ratio() == 500);
+  CHECK(D.poisson == 0.35);
+  CHECK(D.density == 3.7e-9);
+  CHECK(D.damping == Dynamics::Damping::table);
+  CHECK(D.dt == 0);
+  CHECK(D.dt_fraction == 0.5);
+  CHECK(D.end_time == 1e-5);
+  CHECK(D.rate == 100.0);
+  CHECK(D.csv_interval == 100);
+  CHECK(D.dump_interval == 10000);
+  CHECK_FALSE(parse_deck_string(R"([geometry]
+width = 40.0
+height = 24.0
+brick_width = 3.5
+brick_height = 1.0
+[mortar]
+[load]
+final_displacement = 0.05
+)", "mc.toml").dynamics.enabled);
+}
+
+TEST_CASE("every [dynamics] key is read", "[deck][dyn]") {
+  const Deck d = parse_deck_string(base + R"(method = "ue"
+youngs_modulus = 2149.9
+poisson = 0.3
+density = 2e-9
+thickness = 0.5
+internal_stiffness_factor = 40
+alpha_d = 1000.0
+beta_d = 1e-8
+dt = 1e-9
+ramp = "smooth"
+ramp_time = 1e-6
+thermal_strain = 1e-4
+force_top = 2.5
+share_element_matrices = false
+csv_interval = 10
+dump_interval = 0
+)", "dyn.toml");
+  const auto& D = d.dynamics;
+  CHECK(D.method == Dynamics::Method::ue);
+  CHECK(D.modulus() == 2149.9);
+  CHECK(D.ratio() == 10.0);
+  CHECK(D.poisson == 0.3);
+  CHECK(D.density == 2e-9);
+  CHECK(D.thickness == 0.5);
+  CHECK(D.internal_stiffness_factor == 40);
+  CHECK(D.damping == Dynamics::Damping::explicit_values);
+  CHECK(D.alpha_d == 1000.0);
+  CHECK(D.beta_d == 1e-8);
+  CHECK(D.dt == 1e-9);
+  CHECK(D.dt_fraction == 0);
+  CHECK(D.ramp == Dynamics::Ramp::smooth);
+  CHECK(D.ramp_time == 1e-6);
+  CHECK(D.thermal_strain == 1e-4);
+  CHECK(D.force_top == 2.5);
+  CHECK_FALSE(D.share_element_matrices);
+  CHECK(D.csv_interval == 10);
+  CHECK(D.dump_interval == 0);
+  CHECK(parse_deck_string(base + "damping = \"none\"\n", "dyn.toml").dynamics.damping == Dynamics::Damping::none);
+}
+
+TEST_CASE("bad [dynamics] values are errors with file, line and key", "[deck][dyn]") {
+  CHECK_THAT(error_of(base + "method = \"bie\"\n"), StartsWith("dyn.toml:18: dynamics.method: unknown value \"bie\""));
+  CHECK_THAT(error_of(base + "method = 1\n"), StartsWith("dyn.toml:18: dynamics.method: wrong type"));
+  CHECK_THAT(error_of(base + "stiffness_ratio = -1\n"), StartsWith("dyn.toml:18: dynamics.stiffness_ratio: value -1 out of range"));
+  CHECK_THAT(error_of(base + "stiffness_ratio = 10\nyoungs_modulus = 2000\n"),
+             StartsWith("dyn.toml:19: dynamics.youngs_modulus: given together with stiffness_ratio"));
+  CHECK_THAT(error_of(base + "poisson = 0.5\n"), StartsWith("dyn.toml:18: dynamics.poisson: value 0.5 out of range"));
+  CHECK_THAT(error_of(base + "dt = 1e-9\ndt_fraction = 0.5\n"), StartsWith("dyn.toml:19: dynamics.dt_fraction: given together with dt"));
+  CHECK_THAT(error_of(base + "dt_fraction = 1.5\n"), StartsWith("dyn.toml:18: dynamics.dt_fraction: value 1.5 out of range"));
+  CHECK_THAT(error_of(base + "dt = 0\n"), StartsWith("dyn.toml:18: dynamics.dt: value 0 out of range"));
+  CHECK_THAT(error_of(base + "damping = \"table\"\nalpha_d = 1.0\n"),
+             StartsWith("dyn.toml:19: dynamics.alpha_d: given together with damping"));
+  CHECK_THAT(error_of(base + "damping = \"rayleigh\"\n"), StartsWith("dyn.toml:18: dynamics.damping: unknown value"));
+  CHECK_THAT(error_of(base + "ramp = \"cosine\"\n"), StartsWith("dyn.toml:18: dynamics.ramp: unknown value"));
+  CHECK_THAT(error_of(base + "ramp_time = 1.0\n"), StartsWith("dyn.toml:18: dynamics.ramp_time: ramp longer than the run"));
+  CHECK_THAT(error_of(base + "csv_interval = 0\n"), StartsWith("dyn.toml:18: dynamics.csv_interval: value 0 out of range"));
+  CHECK_THAT(error_of(base + "share_element_matrices = 1\n"), StartsWith("dyn.toml:18: dynamics.share_element_matrices: wrong type"));
+  CHECK_THAT(error_of(base + "rate = 0\n"), StartsWith("dyn.toml:18: (syntax)"));
+  std::string no_load = base;
+  no_load.replace(no_load.find("rate = 100.0"), 12, "rate = 0.0");
+  CHECK_THAT(error_of(no_load), StartsWith("dyn.toml:17: dynamics.rate: no load"));
+  std::string no_end = base;
+  no_end.replace(no_end.find("end_time = 1e-5"), 15, "");
+  CHECK_THAT(error_of(no_end), ContainsSubstring("dynamics.end_time: missing"));
+  CHECK_THAT(error_of(base + "stifness_ratio = 10\n"), StartsWith("dyn.toml:18: dynamics.stifness_ratio: unknown key"));
+}
+
+TEST_CASE("Monte Carlo keys in a dynamic deck are errors, not silently ignored", "[deck][dyn]") {
+  CHECK_THAT(error_of(base + "[solver]\nTEMP = 1e-7\n"), StartsWith("dyn.toml:18: solver: the Monte Carlo [solver] section"));
+  std::string load_step = base;
+  load_step.replace(load_step.find("final_displacement = 0.001"), 26, "final_displacement = 0.001\nadaptive = true");
+  CHECK_THAT(error_of(load_step), StartsWith("dyn.toml:15: load.adaptive: a Monte Carlo load-step key"));
+  CHECK_THAT(error_of(base + "[output]\nDumpInter = 5\n"), StartsWith("dyn.toml:19: output.DumpInter: counts Monte Carlo load steps"));
+  // the Monte Carlo check initial_step <= final_displacement does not apply to a dynamic deck
+  CHECK(error_of(base).empty());
+}
