@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -41,6 +42,10 @@ int main(int argc, char* argv[]) {
   // ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending
   deck::Deck d;
   size_specimen(d.geometry, bricks);
+  // width a multiple of half a brick: the running bond then leaves whole and half bricks only, no
+  // slivers (a clipped sliver is a stiffer element type and sets a smaller critical step)
+  d.geometry.width = std::max(3.5, std::round(d.geometry.width / 1.75) * 1.75);
+  d.geometry.notch_length = 0.4 * d.geometry.width;
   const double L = 0.03;
   auto& g = d.geometry;
   g.width *= L, g.height *= L, g.notch_length *= L;

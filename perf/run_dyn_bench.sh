@@ -3,7 +3,8 @@
 # the same process, bytes per step and per brick (shared / unshared element matrices).
 # Usage (from the repository root, on the host):
 #   devenv/nacre-env run perf/run_dyn_bench.sh [OUTDIR]      (default perf/results/dyn_step)
-# Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block: NACRE_DYN_STEPS.
+# Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block NACRE_DYN_STEPS, blocks
+# NACRE_DYN_BLOCKS (best kept); pass them with env: devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
 # Writes OUTDIR/{dyn_step.csv, dyn_step.json, dyn_step.png}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +17,6 @@ rm -f "$out/dyn_step.csv"
 for nt in 1 2; do
   echo "[perf] time per step, $nt thread(s)"
   build/openmp/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
-    --steps "${NACRE_DYN_STEPS:-100}" --csv "$out/dyn_step.csv" --kokkos-num-threads=$nt
+    --steps "${NACRE_DYN_STEPS:-100}" --blocks "${NACRE_DYN_BLOCKS:-3}" --csv "$out/dyn_step.csv" --kokkos-num-threads=$nt
 done
 python3 perf/plot_dyn_bench.py "$out"

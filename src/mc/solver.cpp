@@ -173,8 +173,8 @@ long Solver::cycle() {
   {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::rng");
     auto streams = Kokkos::subview(m_.id, Kokkos::make_pair(0, m_.n_free));
-    source_->fill(global_cycle_, streams, u_);
-    Kokkos::fence();  // the sources run on the default instance
+    source_->fill(space_, global_cycle_, streams, u_);
+    space_.fence("nacre::mc::rng");  // the phase is timed on its own
   }
   times_.rng += timer.seconds();
   timer.reset();

@@ -6,12 +6,12 @@
 
 namespace nacre::rng {
 
-void PhiloxSource::fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
+void PhiloxSource::fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
   const std::uint32_t k0 = static_cast<std::uint32_t>(seed_);
   const std::uint32_t k1 = static_cast<std::uint32_t>(seed_ >> 32);
   Kokkos::parallel_for(
-      "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecSpace>(0, streams.extent(0)),
+      "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecSpace>(space, 0, streams.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
         const std::uint64_t s = streams(i);
         for (int half = 0; half < 2; ++half) {

@@ -48,7 +48,8 @@ class AesCtrSource final : public rng::UniformSource {
 public:
   explicit AesCtrSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "aes-ctr"; }
-  void fill(std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  using rng::UniformSource::fill;
+  void fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
   /// \brief The raw 128-bit blocks behind fill (tests, dieharder).
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
 
@@ -73,7 +74,8 @@ public:
   static constexpr int kMtStreams = 1024;
   explicit MtAesSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "mt-aes"; }
-  void fill(std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  using rng::UniformSource::fill;
+  void fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
   /// \brief The raw AES output behind fill.
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
   /// \brief The MT plaintexts before whitening (with the q tweak): raw MT for streams < 1024.

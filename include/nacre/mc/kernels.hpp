@@ -11,10 +11,6 @@
 #include <nacre/mc/model.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
-// Transitional names (cohesive::Pose, cohesive::point_displacement) for src/io until it is
-// solver-neutral; see the header.
-#include <nacre/cohesive/interface_energy.hpp>
-
 namespace nacre::mc {
 
 /// \brief Compile-time check that kernels on ExecutionSpace may touch MemorySpace's Views.

@@ -54,7 +54,7 @@ struct PhaseTimes {
 };
 
 /// \brief The Monte Carlo solver on one execution-space instance: every kernel, allocation and
-/// copy of the run goes through `space()`. (The uniform sources run on the default instance.)
+/// copy of the run goes through `space()`, the uniform source's batches included.
 class Solver {
 public:
   /// \brief Colours the bricks (running the pre-simulation when colouring = "fastest") and uploads

@@ -38,10 +38,13 @@ public:
   virtual ~UniformSource() = default;
   /// \brief Name used in decks and outputs ("philox", "aes-ctr", "mt-aes").
   [[nodiscard]] virtual std::string name() const = 0;
-  /// \brief Fill u(i, 0..3) with the uniforms of stream streams(i) at draw index `draw`.
+  /// \brief Fill u(i, 0..3) with the uniforms of stream streams(i) at draw index `draw`, on
+  /// `space` (asynchronous: fence `space` before reading u elsewhere).
   /// Sources may be stateful (mt-aes) and then require draws to be requested in increasing order
   /// (a repeated draw index is answered identically).
-  virtual void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
+  virtual void fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
+  /// \brief The same on a default instance of the default execution space.
+  void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) { fill(ExecSpace{}, draw, streams, u); }
 };
 
 /// \brief Generators selectable in a deck (solver.rng).
@@ -58,7 +61,8 @@ class PhiloxSource final : public UniformSource {
 public:
   explicit PhiloxSource(std::uint64_t seed) : seed_(seed) {}
   [[nodiscard]] std::string name() const override { return "philox"; }
-  void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
+  using UniformSource::fill;
+  void fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
 
 private:
   std::uint64_t seed_;
