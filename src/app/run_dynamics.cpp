@@ -7,6 +7,7 @@
 #include "progress.hpp"
 
 #include <nacre/app/signals.hpp>
+#include <nacre/dyn/bie.hpp>
 #include <nacre/geometry/specimen.hpp>
 
 #include <Kokkos_Core.hpp>
@@ -33,7 +34,7 @@ namespace {
 constexpr long critical_trial_steps = 2000;
 constexpr double critical_rtol = 0.01;
 
-const char* method_name(dyn::Method m) { return m == dyn::Method::ue ? "ue" : "be"; }
+const char* method_name(dyn::Method m) { return m == dyn::Method::ue ? "ue" : (m == dyn::Method::bie ? "bie" : "be"); }
 
 std::string num(double v) {
   char b[32];
@@ -96,7 +97,10 @@ void run_charts(const std::filesystem::path& dir, std::ostream* log) {
 dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   const auto& D = d.dynamics;
   dyn::Params p;
-  p.method = D.method == deck::Dynamics::Method::ue ? dyn::Method::ue : dyn::Method::be;
+  p.method = D.method == deck::Dynamics::Method::ue ? dyn::Method::ue
+             : (D.method == deck::Dynamics::Method::bie ? dyn::Method::bie : dyn::Method::be);
+  dyn::parse_bie_solve(D.bie_solve, p.bie_solve);  // validated by the deck reader
+  p.bie_block = D.bie_block;
   p.youngs_modulus = D.modulus();
   p.poisson = D.poisson;
   p.density = D.density;

@@ -12,6 +12,7 @@
 // factor > 1 every step, so the bound is crossed within a few dozen steps of the onset. On
 // failure the chunk is replayed step by step from a copy, so the state is left at the last good
 // step (the run is deterministic, the replay takes the same path).
+#include <nacre/dyn/bie.hpp>
 #include <nacre/dyn/kernels.hpp>
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/simulation.hpp>
@@ -44,6 +45,11 @@ struct Simulation::Impl {
   long step = 0;
   double e_ref = 0;
   std::string why;
+  // BIE (bie.hpp): J^-1 per type, slot order, p_n / v_n and the residual block
+  BieTables<> bie;
+  DofView<Mem> pn, vn, R;
+  int n_tiles = 0;
+  [[nodiscard]] bool is_bie() const { return p.method == Method::bie; }
 
   template <class V>
   static V make(const std::string& l, std::size_t n0, std::size_t n1 = KOKKOS_IMPL_CTOR_DEFAULT_ARG) {
@@ -57,6 +63,15 @@ struct Simulation::Impl {
     acc = make<AccView<Mem>>("acc", ne), acc0 = make<AccView<Mem>>("acc0", ne);
     iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
     ws.reserve(std::max(ne, m.n_iface));
+    if (is_bie()) {
+      pn = make<DofView<Mem>>("bie_pn", ne, nd), vn = make<DofView<Mem>>("bie_vn", ne, nd);
+      R = make<DofView<Mem>>("bie_R", std::max(ne, 1), 2 * nd);
+    }
+  }
+
+  BieIntegrator<Mem> bie_integrator() const { return BieIntegrator<Mem>{integrator(), bie.slot_of_elem, pn, vn, R}; }
+  BieSolveOp<Mem> bie_solver() const {
+    return BieSolveOp<Mem>{bie.Jinv, bie.slot_type, bie.tile_start, bie.tile_count, R, bie.n2};
   }
 
   [[nodiscard]] double time_at(long n) const { return static_cast<double>(n) * p.dt; }
@@ -77,7 +92,14 @@ struct Simulation::Impl {
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(time_at(step));
-    verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
+    if (is_bie()) {
+      auto bi = bie_integrator();
+      bi.ex = it;
+      bie_step(space, bi, InterfaceOp<Mem>(m, u, iforce), bie_solver(), p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force,
+               m.n_elem, m.n_iface, n_tiles);
+    } else {
+      verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
+    }
     ++step;
   }
 
@@ -130,9 +152,22 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
                          p.ramp_time, p.final_displacement};
   I.n_bricks = s.size();
   I.m = build_model(p, s, f, mortar, I.map);
+  if (I.is_bie()) {
+    if (!bie_solve_available(p.bie_solve))
+      throw std::invalid_argument(std::string("dyn: bie_solve = \"") + bie_solve_name(p.bie_solve) +
+                                  "\" needs Kokkos Kernels, which this build does not have");
+    if (p.bie_solve == BieSolve::reordered && p.bie_block != 2 && p.bie_block != 4 && p.bie_block != 5 &&
+        p.bie_block != 10)
+      throw std::invalid_argument("dyn: bie_block must be 2, 4, 5 or 10 (got " + std::to_string(p.bie_block) + ")");
+    if (p.bie_iterations < 1) throw std::invalid_argument("dyn: bie_iterations must be >= 1");
+    I.bie = build_bie_tables(I.m);
+    I.n_tiles = static_cast<int>(I.bie.tile_start.extent(0));
+  }
   I.allocate();
   Exec space;
   I.impose(space, 0.0);
+  // BIE carries a_n into the step (eq. 4.6): start from the acceleration of the initial state.
+  if (I.is_bie()) bie_accelerations(space, I.bie_integrator(), InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
   // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
   // kinetic energy is counted as work done by the machine, so the balance starts closed.
   set_initial_work(space, I.acc, KineticEnergy<Mem>{I.m.type, I.m.drive, I.m.mass, I.u, I.v, I.a, I.m.nd, false, false},
@@ -321,7 +356,14 @@ std::size_t Simulation::bytes() const {
   std::size_t b = model_bytes(I.m);
   for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
   b += (I.acc.span() + I.acc0.span() + I.iforce.span()) * sizeof(double);
+  if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
   return b;
+}
+double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->bie.max_condition : 0.0; }
+double Simulation::bie_residual() const {
+  auto& I = *impl_;
+  if (!I.is_bie() || I.step == 0) return 0.0;
+  return bie_last_residual(Exec{}, I.R, I.m.drive, I.bie.slot_of_elem, I.m.n_elem);
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }

@@ -7,12 +7,14 @@
 ///
 /// The deck knows nothing of the solver: src/app maps this struct onto dyn::Params.
 #include <cstdint>
+#include <string>
 
 namespace nacre::deck {
 
 struct Dynamics {
-  /// \brief Integrator: UE unbolted explicit (eq. 4.4), BE bolted explicit (eq. 4.5).
-  enum class Method : std::uint8_t { ue, be };
+  /// \brief Integrator: UE unbolted explicit (eq. 4.4), BE bolted explicit (eq. 4.5), BIE bolted
+  /// implicit-explicit (eq. 4.6/4.7, docs/methods.md).
+  enum class Method : std::uint8_t { ue, be, bie };
   /// \brief Rayleigh damping source: Table 4.2 preset, none, or alpha_d/beta_d as given.
   enum class Damping : std::uint8_t { table, none, explicit_values };
   /// \brief Time profile of the opening rate over ramp_time.
@@ -37,6 +39,8 @@ struct Dynamics {
   double thermal_strain = 0;       ///< uniform isotropic eigenstrain Theta
   double force_top = 0;            ///< vertical force per unit length on the top edge, N/mm
   bool share_element_matrices = true;  ///< one matrix set per element type (false: per element)
+  std::string bie_solve = "shared_gemm";  ///< BIE J^-1 apply: row | reordered | batched | shared_gemm
+  int bie_block = 4;               ///< BIE reordered matvec: rows per block (2, 4, 5, 10)
   long csv_interval = 100;         ///< time-series row every this many steps
   long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
 

@@ -20,8 +20,16 @@ namespace nacre::dyn {
 
 /// \brief Time integrators: UE = unbolted explicit (eq. 4.4, each triangle its own element, stiff
 /// internal joints on the diagonals), BE = bolted explicit (eq. 4.5, one (n+1)-node element per
-/// brick). Part 4b adds BIE.
-enum class Method : std::uint8_t { ue, be };
+/// brick), BIE = bolted implicit-explicit (eq. 4.6/4.7: implicit midpoint for the element terms,
+/// explicit Verlet for the interface forces, constant per-type Jacobian; docs/methods.md).
+enum class Method : std::uint8_t { ue, be, bie };
+
+/// \brief How BIE applies J^-1 to every element's residual (docs/methods.md, perf/dyn_bie):
+/// row = row-by-row matvec per element; reordered = blocks of Params::bie_block rows with the
+/// columns accumulated in registers (dissertation §4.3); batched = KokkosBatched::SerialGemv per
+/// element (only where Kokkos Kernels is available); shared_gemm = one J^-1 x [residuals of all
+/// elements of the type] product per element type, tiled (compute-bound). Same result to rounding.
+enum class BieSolve : std::uint8_t { row, reordered, batched, shared_gemm };
 
 /// \brief Time profile of the prescribed opening D(t).
 enum class Ramp : std::uint8_t { linear, smooth };
@@ -46,6 +54,13 @@ struct Params {
   double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none);
                                          ///< when non-zero the top bricks are force-loaded, not displacement-driven
   bool share_element_matrices = true;    ///< one matrix set per element type (false: per element)
+  BieSolve bie_solve = BieSolve::shared_gemm;  ///< BIE: implementation of the J^-1 apply
+  int bie_block = 4;                     ///< BIE reordered matvec: rows per block NB (2, 4, 5, 10)
+  int bie_iterations = 2;                ///< BIE: Newton iterations per step with the constant J (eq. 4.6: 2)
+  /// BIE: true = the interface force of the last iterate's predecessor is kept for a_{n+1} (one
+  /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
+  /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.
+  bool bie_reuse_force = true;
   int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
 };
 
@@ -102,6 +117,15 @@ public:
   [[nodiscard]] std::size_t bytes() const;
   [[nodiscard]] int element_types() const;
   [[nodiscard]] std::size_t bricks() const;
+
+  /// \brief BIE only (0 otherwise): largest 1-norm condition number of the per-type Jacobians
+  /// J of eq. 4.7 in dimensionless form D J D^-1, D = diag(I, h I), checked at start-up.
+  [[nodiscard]] double jacobian_condition() const;
+  /// \brief BIE only (0 otherwise): relative residual of the last step after its last Newton
+  /// iteration, sqrt(sum m |G_v|^2 / sum m |v_{n+1} - v_n|^2): what neglecting the interface
+  /// Jacobian left unconverged (small when BIE is accurate). Needs bie_reuse_force = false (with the
+  /// force kept from the previous iterate the last iteration is exact for it: 0 to rounding).
+  [[nodiscard]] double bie_residual() const;
 
 private:
   struct Impl;

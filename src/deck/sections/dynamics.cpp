@@ -38,9 +38,23 @@ void read_dynamics(Section& top, Deck& d) {
   reject_mc_keys(top, root, "output", {"dump_interval", "DumpInter"},
                  "counts Monte Carlo load steps; a [dynamics] deck sets [dynamics] dump_interval (time steps)");
 
-  std::string method = D.method == Dynamics::Method::ue ? "ue" : "be";
-  s.string("method", method, {"ue", "be"}, "\"ue\" (unbolted explicit, eq. 4.4) or \"be\" (bolted explicit, eq. 4.5)");
-  D.method = method == "ue" ? Dynamics::Method::ue : Dynamics::Method::be;
+  std::string method = D.method == Dynamics::Method::ue ? "ue" : (D.method == Dynamics::Method::bie ? "bie" : "be");
+  s.string("method", method, {"ue", "be", "bie"},
+           "\"ue\" (unbolted explicit, eq. 4.4), \"be\" (bolted explicit, eq. 4.5) or \"bie\" (bolted implicit-explicit, eq. 4.6)");
+  D.method = method == "ue" ? Dynamics::Method::ue : (method == "bie" ? Dynamics::Method::bie : Dynamics::Method::be);
+#if defined(NACRE_HAVE_KOKKOSKERNELS)
+  s.string("bie_solve", D.bie_solve, {"row", "reordered", "batched", "shared_gemm"},
+           "\"row\", \"reordered\", \"batched\" or \"shared_gemm\" (docs/methods.md)");
+#else
+  s.string("bie_solve", D.bie_solve, {"row", "reordered", "shared_gemm"},
+           "\"row\", \"reordered\" or \"shared_gemm\" (\"batched\" needs Kokkos Kernels, not in this build)");
+#endif
+  {
+    long nb = D.bie_block;
+    s.integer("bie_block", {}, nb, 2, 10, "2, 4, 5 or 10 (rows per block of the reordered matvec)");
+    if (nb != 2 && nb != 4 && nb != 5 && nb != 10) s.fail("bie_block", "expected 2, 4, 5 or 10 (rows per block of the reordered matvec)");
+    D.bie_block = static_cast<int>(nb);
+  }
 
   const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
@@ -99,7 +113,7 @@ void read_dynamics(Section& top, Deck& d) {
   if (has_dt && D.end_time / D.dt > 1e12)
     s.fail("dt", "end_time / dt exceeds 1e12 steps; expected a larger dt or a shorter end_time");
 
-  s.reject_unknown({"method", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
+  s.reject_unknown({"method", "bie_solve", "bie_block", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
                     "csv_interval", "dump_interval"});

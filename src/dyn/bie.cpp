@@ -1,0 +1,136 @@
+// BIE start-up (host, Eigen): the Jacobian of eq. 4.7 per element type, its inverse and
+// condition number, the slot order (elements sorted by type) and the tiles of the shared-J^-1
+// product. See include/nacre/dyn/bie.hpp for the method.
+#include <nacre/dyn/bie.hpp>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace nacre::dyn {
+
+namespace {
+constexpr double kMaxCondition = 1e12;
+}
+
+std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
+  const int nd = m.nd, n = 2 * nd;
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.K, t, Kokkos::ALL, Kokkos::ALL));
+  auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.mass, t, Kokkos::ALL));
+  const double h = m.h;
+  std::vector<double> J(static_cast<std::size_t>(n) * n, 0.0);  // row-major
+  auto at = [&](int i, int j) -> double& { return J[static_cast<std::size_t>(i) * n + j]; };
+  for (int i = 0; i < n; ++i) at(i, i) = 1.0;
+  for (int i = 0; i < nd; ++i) {
+    if (!(M(i) > 0)) continue;  // padded dof: identity
+    const double mi = 1.0 / M(i);
+    for (int j = 0; j < nd; ++j) {
+      const double mk = mi * K(i, j);
+      const double mc = m.alpha * (i == j ? 1.0 : 0.0) + m.beta * mk;  // M^-1 C, C = alpha M + beta K
+      at(i, j) += 0.25 * h * h * mk;
+      at(i, nd + j) += 0.25 * h * h * mc;
+      at(nd + i, j) += 0.5 * h * mk;
+      at(nd + i, nd + j) += 0.5 * h * mc;
+    }
+  }
+  return J;
+}
+
+BieTables<> build_bie_tables(const Model<>& m) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::bie_tables");
+  BieTables<> b;
+  const int nd = m.nd, n = 2 * nd, nt = m.n_types, ne = m.n_elem;
+  b.n2 = n;
+  b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
+  auto Jh = Kokkos::create_mirror_view(b.Jinv);
+  for (int t = 0; t < nt; ++t) {
+    const auto Jv = bie_jacobian_host(m, t);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jraw(Jv.data(), n, n);
+    // Rows/columns of p (mm) and v (mm/s) differ in unit: invert the dimensionless
+    // J~ = D J D^-1, D = diag(I, h I) (velocity as h v), whose condition number means something,
+    // then J^-1 = D^-1 J~^-1 D.
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(n);
+    d.tail(nd).setConstant(m.h);
+    const Eigen::MatrixXd J = d.asDiagonal() * Jraw * d.cwiseInverse().asDiagonal();
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
+    const Eigen::MatrixXd Jti = lu.inverse();
+    // cond_1(J~) = |J~|_1 |J~^-1|_1 (exact for the computed inverse, n <= 32: cheap)
+    const double cond = J.cwiseAbs().colwise().sum().maxCoeff() * Jti.cwiseAbs().colwise().sum().maxCoeff();
+    const double err = (J * Jti - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff();
+    const Eigen::MatrixXd Ji = d.cwiseInverse().asDiagonal() * Jti * d.asDiagonal();
+    if (!std::isfinite(cond) || cond > kMaxCondition || !Ji.allFinite())
+      throw std::runtime_error("dyn: BIE Jacobian of element type " + std::to_string(t) + " is ill-conditioned (cond_1 of D J D^-1 = " +
+                               std::to_string(cond) + " > 1e12); the step or the damping is out of range");
+    b.max_condition = std::max(b.max_condition, cond);
+    b.max_identity_error = std::max(b.max_identity_error, err);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) Jh(t, i, j) = Ji(i, j);
+  }
+  Kokkos::deep_copy(b.Jinv, Jh);
+
+  // slots: elements sorted by type (stable), tiles of <= kTile slots of one type
+  auto types = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.type);
+  b.type_offset.assign(nt + 1, 0);
+  for (int e = 0; e < ne; ++e) ++b.type_offset[types(e) + 1];
+  for (int t = 0; t < nt; ++t) b.type_offset[t + 1] += b.type_offset[t];
+  b.slot_of_elem = Kokkos::View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot"), ne);
+  b.slot_type = Kokkos::View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot_type"), std::max(ne, 1));
+  auto so = Kokkos::create_mirror_view(b.slot_of_elem);
+  auto st = Kokkos::create_mirror_view(b.slot_type);
+  std::vector<int> fill(b.type_offset.begin(), b.type_offset.end() - 1);
+  for (int e = 0; e < ne; ++e) {
+    const int s = fill[types(e)]++;
+    so(e) = s, st(s) = types(e);
+  }
+  std::vector<int> ts, tc;
+  for (int t = 0; t < nt; ++t)
+    for (int s = b.type_offset[t]; s < b.type_offset[t + 1]; s += kTile)
+      ts.push_back(s), tc.push_back(std::min(kTile, b.type_offset[t + 1] - s));
+  const int ntile = static_cast<int>(ts.size());
+  b.tile_start = Kokkos::View<int*>("nacre::dyn::bie_tile_start", std::max(ntile, 1));
+  b.tile_count = Kokkos::View<int*>("nacre::dyn::bie_tile_count", std::max(ntile, 1));
+  auto hts = Kokkos::create_mirror_view(b.tile_start);
+  auto htc = Kokkos::create_mirror_view(b.tile_count);
+  for (int w = 0; w < ntile; ++w) hts(w) = ts[w], htc(w) = tc[w];
+  Kokkos::deep_copy(b.slot_of_elem, so), Kokkos::deep_copy(b.slot_type, st);
+  Kokkos::deep_copy(b.tile_start, hts), Kokkos::deep_copy(b.tile_count, htc);
+  return b;
+}
+
+std::size_t bie_bytes(const BieTables<>& b) {
+  return b.Jinv.span() * sizeof(double) +
+         (b.slot_of_elem.span() + b.slot_type.span() + b.tile_start.span() + b.tile_count.span()) * sizeof(int);
+}
+
+const char* bie_solve_name(BieSolve s) {
+  switch (s) {
+  case BieSolve::row: return "row";
+  case BieSolve::reordered: return "reordered";
+  case BieSolve::batched: return "batched";
+  case BieSolve::shared_gemm: return "shared_gemm";
+  }
+  return "?";
+}
+
+bool parse_bie_solve(const std::string& name, BieSolve& out) {
+  for (auto s : {BieSolve::row, BieSolve::reordered, BieSolve::batched, BieSolve::shared_gemm})
+    if (name == bie_solve_name(s)) {
+      out = s;
+      return true;
+    }
+  return false;
+}
+
+bool bie_solve_available(BieSolve s) {
+#if defined(NACRE_HAVE_KOKKOSKERNELS)
+  (void)s;
+  return true;
+#else
+  return s != BieSolve::batched;
+#endif
+}
+
+}  // namespace nacre::dyn
