@@ -91,6 +91,7 @@ struct Simulation::Impl {
     const loading::Opening o = ramp(time_at(step + 1));
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
+    it.D_prev = ramp.displacement(time_at(step));
     if (is_bie()) {
       auto bi = bie_integrator();
       bi.ex = it;

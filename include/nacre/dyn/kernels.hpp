@@ -25,7 +25,9 @@ struct InitialTag {};
 struct FinalTag {};
 
 /// Column of the per-element accumulators.
-enum AccCol : int { kWork = 0, kDamp = 1, kPowPrev = 2, kDampPowPrev = 3, kReact = 4, kAccCols = 5 };
+/// Driven elements keep, from the previous step: kGPrev = F_i . pattern (the interface force
+/// along the prescribed motion), kDampPowPrev = v^T C v, kEnergyPrev = kinetic + strain energy.
+enum AccCol : int { kWork = 0, kDamp = 1, kGPrev = 2, kDampPowPrev = 3, kReact = 4, kEnergyPrev = 5, kAccCols = 6 };
 
 template <class MemorySpace>
 using DofView = typename Model<MemorySpace>::Dof;
@@ -74,21 +76,23 @@ struct InterfaceOp {
     dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
   }
 
-  /// Energy of interface i; with f != nullptr also the nodal forces -dE/dq (same points).
+  /// Energy of interface i (kEnergy) and/or the nodal forces f = -dE/dq (kForce), from the same
+  /// quadrature points; the time step needs only the forces, the books only the energy.
+  template <bool kEnergy, bool kForce>
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
     const cohesive::Law& m = laws[ikind(i)];
     const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
     double e = 0;
-    if (f)
+    if constexpr (kForce)
       for (int k = 0; k < 8; ++k) f[k] = 0;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
       jump(i, q, quad.s[p], dn, dt, xa, xb);
       const double wl = quad.w[p] * lt;
-      e += wl * m(cohesive::EnergyTag{}, dn, dt);
-      if (f) {
+      if constexpr (kEnergy) e += wl * m(cohesive::EnergyTag{}, dn, dt);
+      if constexpr (kForce) {
         double fn, ft;
         m(cohesive::TractionTag{}, dn, dt, fn, ft);
         const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
@@ -99,11 +103,11 @@ struct InterfaceOp {
     return e;
   }
 
-  KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate(i, nullptr); }
+  KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate<true, false>(i, nullptr); }
 
   KOKKOS_INLINE_FUNCTION void operator()(ForceTag, int i) const {
     double f[8];
-    integrate(i, f);
+    integrate<false, true>(i, f);
     for (int k = 0; k < 8; ++k) out(i, k) = f[k];
   }
 
@@ -146,6 +150,7 @@ struct Integrator {
   double h, alpha, beta;
   loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
+  double D_prev = 0;              ///< opening at the old time
 
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const IforceView<MemorySpace>& f_)
@@ -198,7 +203,7 @@ struct Integrator {
     for (int j = 0; j < nd; ++j) f[j] = fi[j] + theta(t, j) + (has_fp ? fp(e, j) : 0.0);
     if (drive(e) == 0) {
       // w = v_n + h/2 a_n is the velocity at which C acts; u_{n+1} - u_n = h w.
-      double work = 0, pd = 0;
+      double work = 0;
       for (int j = 0; j < nd; ++j) {
         x[j] = u(e, j);
         w[j] = v(e, j) + 0.5 * h * a(e, j);
@@ -211,22 +216,40 @@ struct Integrator {
           const double k = K(t, i, j);
           ku += k * x[j], kw += k * w[j];
         }
-        const double cw = alpha * mass(t, i) * w[i] + beta * kw;
-        r[i] = f[i] - ku - cw;
-        pd += w[i] * cw;
+        r[i] = f[i] - ku - alpha * mass(t, i) * w[i] - beta * kw;
       }
+      // vb = (v_n + v_{n+1}) / 2: the scheme satisfies M a + C v + K u = F at both step ends, so
+      // the kinetic energy changes by exactly h vb . (F - K u)_avg - h vb^T C vb; booking
+      // h vb^T C vb as dissipated keeps the balance to the Verlet error of the potential part.
+      double vb[kMaxDof];
+      double pd = 0;
       for (int i = 0; i < nd; ++i) {
         double an = 0;
         for (int j = 0; j < nd; ++j) an += Ainv(t, i, j) * r[j];
-        v(e, i) += 0.5 * h * (a(e, i) + an);
+        const double vn = v(e, i) + 0.5 * h * (a(e, i) + an);
+        vb[i] = 0.5 * (v(e, i) + vn);
+        pd += alpha * mass(t, i) * vb[i] * vb[i];
+        v(e, i) = vn;
         a(e, i) = an;
       }
+      if (beta != 0.0)
+        for (int i = 0; i < nd; ++i) {
+          double kv = 0;
+          for (int j = 0; j < nd; ++j) kv += K(t, i, j) * vb[j];
+          pd += beta * vb[i] * kv;
+        }
       acc(e, kWork) += h * work;  // constant prescribed forces and Theta: exact F . du
       acc(e, kDamp) += h * pd;
       return;
     }
-    // Driven: the force the machine applies, M a + C v + K u - F_i - F_p - Theta.
-    double power = 0, pd = 0, react = 0;
+    // Driven: the machine applies M a + C v + K u - F_i - F_p - Theta; with the prescribed loads
+    // the external work on the element is int (M a + C v + K u - F_i) . v dt
+    //   = change of its kinetic + strain energy + int v^T C v dt - int F_i . du.
+    // The first part is booked exactly (an impulsive start or stop of the opening included), the
+    // damping part by the trapezoidal rule in time, the interface part by the trapezoidal rule in
+    // the opening: du = pattern dD, so int F_i . du = 1/2 (G_n + G_{n+1}) (D_{n+1} - D_n) with
+    // G = F_i . pattern.
+    double pd = 0, react = 0, en = 0, G = 0;
     for (int i = 0; i < nd; ++i) {
       double ku = 0, kv = 0;
       for (int j = 0; j < nd; ++j) {
@@ -235,14 +258,21 @@ struct Integrator {
       }
       const double vi = v(e, i);
       const double cv = alpha * mass(t, i) * vi + beta * kv;
-      const double fr = mass(t, i) * a(e, i) + cv + ku - fi[i] - (f[i] - fi[i]);
-      power += (fr + f[i] - fi[i]) * vi;  // work of the machine and of the prescribed loads
       pd += vi * cv;
-      if (i % 2 == 1) react += fr;
+      en += 0.5 * (mass(t, i) * vi * vi + u(e, i) * ku);
+      if (i % 2 == 1) react += mass(t, i) * a(e, i) + cv + ku - f[i];
     }
-    acc(e, kWork) += 0.5 * h * (acc(e, kPowPrev) + power);
-    acc(e, kPowPrev) = power;
-    acc(e, kDamp) += 0.5 * h * (acc(e, kDampPowPrev) + pd);
+    const int nn = type_nodes(t);
+    for (int j = 0; j < nn; ++j) {
+      double px, py;
+      pattern(e, t, j, px, py);
+      G += fi[2 * j] * px + fi[2 * j + 1] * py;
+    }
+    const double damp = 0.5 * h * (acc(e, kDampPowPrev) + pd);
+    acc(e, kWork) += (en - acc(e, kEnergyPrev)) + damp - 0.5 * (acc(e, kGPrev) + G) * (D - D_prev);
+    acc(e, kDamp) += damp;
+    acc(e, kEnergyPrev) = en;
+    acc(e, kGPrev) = G;
     acc(e, kDampPowPrev) = pd;
     acc(e, kReact) = drive(e) > 0 ? react : 0.0;
   }
@@ -355,12 +385,13 @@ double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpac
   return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, term);
 }
 
-/// \brief acc(e, kWork) = term(e) (the work of an impulsive start).
+/// \brief acc(e, kWork) = acc(e, kEnergyPrev) = term(e): the energy the start gives an element
+/// (the kinetic energy of driven elements set moving at t = 0) is booked as work.
 template <class ExecutionSpace, class Term>
 void set_initial_work(const ExecutionSpace& space, const AccView<MemOf<ExecutionSpace>>& acc, const Term& term,
                       int n_elem) {
   Kokkos::parallel_for("nacre::dyn::initial_work", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-                       KOKKOS_LAMBDA(const int e) { acc(e, kWork) = term(e); });
+                       KOKKOS_LAMBDA(const int e) { acc(e, kWork) = acc(e, kEnergyPrev) = term(e); });
 }
 
 /// \brief Number of ruptured interfaces among [0, n) (integer reduction: exact).

@@ -48,10 +48,11 @@ struct Params {
   double rate = 0;                       ///< opening rate dD/dt once ramped up, mm/s
   double ramp_time = 0;                  ///< s over which the rate ramps from 0 (0: none)
   Ramp ramp = Ramp::linear;
-  double final_displacement = 0;         ///< D at which the opening stops growing (held after), mm
+  double final_displacement = 0;         ///< D at which the opening stops growing (held after), mm (0: no limit)
   double tension = 0, bending = 1;       ///< load pattern weights, as in the rigid deck's [load]
   double thermal_strain = 0;             ///< uniform thermal load Theta (isotropic eigenstrain)
-  double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none)
+  double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none);
+                                         ///< when non-zero the top bricks are force-loaded, not displacement-driven
   bool share_element_matrices = true;    ///< one matrix set per element type (false: per element)
   BieSolve bie_solve = BieSolve::shared_gemm;  ///< BIE: implementation of the J^-1 apply
   int bie_block = 4;                     ///< BIE reordered matvec: rows per block NB (2, 4, 5, 10)
