@@ -3,8 +3,15 @@
 if(NACRE_BENCHMARKS_ONLY)
   # the core library names these targets; what needs them (deck parser, HDF5 output, app) is
   # left out of the build (src/CMakeLists.txt), so empty stand-ins do where they are missing
+  # Eigen (header-only) is needed by the dynamics (BIE's J^-1 at start-up): a CMake package, or
+  # the headers the GPU bundle carries (perf/gpu/pack.sh: NACRE_EIGEN_INCLUDE=vendor/include/eigen3)
   find_package(Eigen3 3.3 QUIET NO_MODULE)
-  foreach(_t Eigen3::Eigen HDF5::HDF5 tomlplusplus::tomlplusplus)
+  if(NOT TARGET Eigen3::Eigen)
+    find_path(NACRE_EIGEN_INCLUDE Eigen/Dense PATH_SUFFIXES eigen3 REQUIRED)
+    add_library(Eigen3::Eigen INTERFACE IMPORTED)
+    target_include_directories(Eigen3::Eigen SYSTEM INTERFACE ${NACRE_EIGEN_INCLUDE})
+  endif()
+  foreach(_t HDF5::HDF5 tomlplusplus::tomlplusplus)
     if(NOT TARGET ${_t})
       add_library(${_t} INTERFACE IMPORTED)
     endif()

@@ -2,7 +2,7 @@
 # pack.sh — bundle everything perf/gpu/runbook.sh needs on a machine without network access:
 # nacre's sources (this checkout's committed state), the Kokkos / Kokkos Kernels tarballs and
 # the CUDA-13 patch (shared/deps), and the header-only libraries the benchmarks use (CLI11,
-# Random123), taken from the dev root. Run on the development machine:
+# Random123, Eigen's core headers), taken from the dev root. Run on the development machine:
 #   perf/gpu/pack.sh [OUT.tar.gz]        (default nacre-gpu-bundle.tar.gz)
 # Copy the tarball to the GPU machine, then: tar xzf nacre-gpu-bundle.tar.gz &&
 #   nacre-gpu-bundle/nacre/perf/gpu/runbook.sh OUTDIR
@@ -19,9 +19,9 @@ git -C "$REPO" rev-parse HEAD > "$b/nacre/REVISION"
 for f in kokkos-4.6.01.tar.gz kokkos-cuda13.patch kokkos-kernels-4.7.00.tar.gz SHA256SUMS README.md; do
   cp "$DEPS/$f" "$b/deps/"
 done
-for d in CLI Random123; do
+for d in CLI Random123 eigen3/Eigen; do
   [ -d "$INC/$d" ] || { echo "pack.sh: $INC/$d not found (set NACRE_VENDOR_INCLUDE)" >&2; exit 1; }
-  cp -r "$INC/$d" "$b/vendor/include/"
+  mkdir -p "$b/vendor/include/$(dirname "$d")"; cp -r "$INC/$d" "$b/vendor/include/$d"
 done
 tar czf "$OUT" -C "$stage" nacre-gpu-bundle
 echo "pack.sh: wrote $OUT ($(du -h "$OUT" | cut -f1))"

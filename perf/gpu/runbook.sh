@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# runbook.sh — build nacre's benchmarks from the carried sources and run them, on a bare GPU
+# runbook.sh — build nacre's benchmarks (MC, AES, dynamics) from the carried sources and run them, on a bare GPU
 # machine (nvcc, CMake >= 3.22, Ninja and a host compiler; no HDF5, Eigen, toml++, CLI11, Catch2
 # and no network). Everything lands in OUTDIR: CSV/JSON of each benchmark, the build and run
 # logs, and env.txt (GPU, driver, compilers, revision). See docs/gpu.md.
@@ -50,25 +50,26 @@ say "1/3 Kokkos 4.6.01 + Kokkos Kernels 4.7.00 ($kokkos, $kk) into $NACRE_OPT"
 timed bash "$SRC/devenv/build-deps.sh" "$kokkos" "$kk" 2>&1 | tee -a "$LOG"
 K="$(bash "$SRC/devenv/build-deps.sh" prefix "$kokkos")"; KK="$(bash "$SRC/devenv/build-deps.sh" prefix "$kk")"
 
-say "2/3 nacre benchmarks (NACRE_BENCHMARKS_ONLY: no HDF5, toml++, Eigen, Catch2)"
+say "2/3 nacre benchmarks (NACRE_BENCHMARKS_ONLY: no HDF5, toml++, Catch2; Eigen from the bundle)"
 cxx=(); [ $cpu = 0 ] && cxx=(-DCMAKE_CXX_COMPILER="$K/bin/nvcc_wrapper")
 B="$WORK/build-$kokkos"
 timed cmake -S "$SRC" -B "$B" -G Ninja -DCMAKE_BUILD_TYPE=Release -DNACRE_BENCHMARKS_ONLY=ON \
   -DKokkos_ROOT="$K" -DKokkosKernels_ROOT="$KK" "${cxx[@]}" \
   -DNACRE_CLI11_INCLUDE="$BUNDLE/vendor/include" -DNACRE_RANDOM123_INCLUDE="$BUNDLE/vendor/include" \
+  -DNACRE_EIGEN_INCLUDE="$BUNDLE/vendor/include/eigen3" \
   >> "$LOG" 2>&1 || { tail -n 30 "$LOG"; say "configure failed"; exit 1; }
-targets=(nacre_perf_mc nacre_aes_bench)
+targets=(nacre_perf_mc nacre_aes_bench nacre_perf_dyn_step nacre_perf_bie)
 grep -q nacre_perf_colouring "$B/build.ninja" && targets+=(nacre_perf_colouring)
 timed cmake --build "$B" -j "$NACRE_JOBS" --target "${targets[@]}" >> "$LOG" 2>&1 \
   || { tail -n 40 "$LOG"; say "build failed"; exit 1; }
 
 say "3/3 benchmarks -> $OUT"
 export OMP_PROC_BIND=spread OMP_PLACES=threads
-if [ $quick = 1 ]; then mc_sizes=10000,30000; col_sizes=10000,100000; cyc=10; aes_max=16M
-else mc_sizes=100000,1000000; col_sizes=100000,1000000; cyc=30; aes_max=1G; fi
+if [ $quick = 1 ]; then mc_sizes=10000,30000; col_sizes=10000,100000; cyc=10; aes_max=16M; dyn_sizes=2000,10000; dyn_steps=10
+else mc_sizes=100000,1000000; col_sizes=100000,1000000; cyc=30; aes_max=1G; dyn_sizes=10000,100000,200000; dyn_steps=100; fi
 if [ $cpu = 0 ]; then schedules=natural,balanced,largest-first,kokkos-d1; else schedules=tiles,natural,kokkos-d1; fi
 [ -x "$B/perf/nacre_perf_colouring" ] || schedules=${schedules/,kokkos-d1/}
-rm -f "$OUT"/mc_throughput.csv "$OUT"/colouring.csv
+rm -f "$OUT"/mc_throughput.csv "$OUT"/colouring.csv "$OUT"/dyn_step.csv "$OUT"/bie_timing.csv
 say "MC sweep throughput ($schedules; $mc_sizes bricks)"
 timed "$B/perf/nacre_perf_mc" --bricks "$mc_sizes" --cycles "$cyc" --colouring "$schedules" --csv "$OUT/mc_throughput.csv" 2>&1 | tee -a "$LOG"
 if [ -x "$B/perf/nacre_perf_colouring" ]; then
@@ -80,6 +81,12 @@ say "AES-128 (nacre bitsliced) and random-number throughput"
 echo "kind,impl,threads,size_bytes,count,seconds,rate,unit" > "$OUT/aes_bench.csv"
 timed "$B/perf/nacre_aes_bench" --mode=nacre --max-size="$aes_max" --min-time=0.5 2>>"$LOG" | tee -a "$OUT/aes_bench.csv"
 timed "$B/perf/nacre_aes_bench" --mode=rng --min-time=0.5 2>>"$LOG" | tee -a "$OUT/aes_bench.csv"
+say "dynamics: time per step, UE and BE, against a triad ($dyn_sizes bricks)"
+timed "$B/perf/nacre_perf_dyn_step" --bricks "$dyn_sizes" --methods ue,be --steps "$dyn_steps" --blocks 2 \
+  --csv "$OUT/dyn_step.csv" 2>&1 | tee -a "$LOG"
+say "dynamics: time per step, UE, BE, BIE and each J^-1 apply variant ($dyn_sizes bricks, ratio 500)"
+timed "$B/perf/nacre_perf_bie" timing --sizes "$dyn_sizes" --ratio 500 --steps "$dyn_steps" \
+  --out "$OUT/bie_timing.csv" 2>&1 | tee -a "$LOG"
 python3 - "$OUT" <<'PY' 2>>"$LOG" || say "python3 missing: no summary.json (the CSVs are complete)"
 import csv, json, os, sys
 out = sys.argv[1]
@@ -92,6 +99,8 @@ s["colouring"] = [{k: r[k] for k in ("bricks", "strategy", "colours", "balance",
 aes = [r for r in rows("aes_bench.csv") if r["kind"] == "cipher"]
 s["aes_best_gbit_per_s"] = max((float(r["rate"]) for r in aes), default=None)
 s["rng"] = [r for r in rows("aes_bench.csv") if r["kind"] != "cipher"]
+s["dyn_step"] = rows("dyn_step.csv")
+s["bie_timing"] = rows("bie_timing.csv")
 json.dump(s, open(os.path.join(out, "summary.json"), "w"), indent=1)
 print(json.dumps({k: s[k] for k in ("aes_best_gbit_per_s",)}))
 PY
