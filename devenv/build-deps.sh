@@ -13,7 +13,8 @@
 #   build-deps.sh prefix RECIPE   print the prefix of RECIPE
 # Environment: NACRE_DEPS  folder with the tarballs (default /opt/nacre/src, bound by nacre-env)
 #              NACRE_OPT   where prefixes go (default /opt/nacre)
-#              NACRE_JOBS  parallel compile jobs (default 2); builds run under nice -n 19
+#              NACRE_JOBS  parallel compile jobs (default 2)
+#              NACRE_NICE  niceness of the builds (default 19: they yield to interactive work)
 #              NACRE_CUDA_ARCH  Kokkos arch option for CUDA (default HOPPER90)
 #              NACRE_CUDA_HOME  CUDA toolkit (default /usr/local/cuda)
 # Kokkos Kernels is installed header-only (no explicit instantiation): nacre calls a handful of
@@ -23,6 +24,7 @@ set -euo pipefail
 DEPS="${NACRE_DEPS:-/opt/nacre/src}"
 OPT="${NACRE_OPT:-/opt/nacre}"
 JOBS="${NACRE_JOBS:-2}"
+NICE="${NACRE_NICE:-19}"
 ARCH="${NACRE_CUDA_ARCH:-HOPPER90}"
 CUDA_HOME="${NACRE_CUDA_HOME:-/usr/local/cuda}"
 arch_tag=$(echo "$ARCH" | tr 'A-Z' 'a-z')
@@ -46,29 +48,27 @@ KK_CUDA_OPTS=(-DKokkosKernels_ENABLE_TPL_CUBLAS=OFF -DKokkosKernels_ENABLE_TPL_C
 COMMON=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=20)
 K_OFF=(-DKokkos_ENABLE_TESTS=OFF -DKokkos_ENABLE_EXAMPLES=OFF)
 
-prefix() {
+# spec NAME: sets P (the prefix's folder name, every version that matters) and R (the source
+# tarball and the CMake arguments, on one line: also the stamp's content) for each recipe
+spec() {
   case "$1" in
-    kk-dev)        echo "$OPT/${KKDEV}_kokkos-5.2.2-debian" ;;
-    kokkos-host)   echo "$OPT/${K46}_openmp-serial" ;;
-    kk-host)       echo "$OPT/${KK47}_${K46}_openmp-serial" ;;
-    kokkos-serial) echo "$OPT/${K46}_serial" ;;
-    kokkos-cuda)   echo "$OPT/${K46}-cuda13_${arch_tag}-openmp-serial" ;;
-    kk-cuda)       echo "$OPT/${KK47}_${K46}-cuda13_${arch_tag}-openmp-serial" ;;
+    kk-dev)        P="${KKDEV}_kokkos-5.2.2-debian"
+                   R="$KKDEV -DKokkos_ROOT=/usr ${KK_OPTS[*]}" ;;
+    kokkos-host)   P="${K46}_openmp-serial"
+                   R="$K46 -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON ${K_OFF[*]}" ;;
+    kokkos-serial) P="${K46}_serial"
+                   R="$K46 -DKokkos_ENABLE_SERIAL=ON ${K_OFF[*]}" ;;
+    kk-host)       P="${KK47}_${K46}_openmp-serial"
+                   R="$KK47 -DKokkos_ROOT=$(prefix kokkos-host) ${KK_OPTS[*]}" ;;
+    kokkos-cuda)   P="${K46}-cuda13_${arch_tag}-openmp-serial"
+                   R="$K46 -DCMAKE_CXX_COMPILER=@SRC@/bin/nvcc_wrapper -DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON -DKokkos_ARCH_${ARCH}=ON -DCUDAToolkit_ROOT=$CUDA_HOME ${K_OFF[*]}" ;;
+    kk-cuda)       P="${KK47}_${K46}-cuda13_${arch_tag}-openmp-serial"
+                   R="$KK47 -DCMAKE_CXX_COMPILER=$(prefix kokkos-cuda)/bin/nvcc_wrapper -DKokkos_ROOT=$(prefix kokkos-cuda) ${KK_OPTS[*]} ${KK_CUDA_OPTS[*]}" ;;
     *) say "unknown recipe '$1'"; exit 2 ;;
   esac
 }
-
-# recipe NAME -> the source tarball and the CMake arguments (one line: also the stamp content)
-recipe() {
-  case "$1" in
-    kk-dev)        echo "$KKDEV -DKokkos_ROOT=/usr ${KK_OPTS[*]}" ;;
-    kokkos-host)   echo "$K46 -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON ${K_OFF[*]}" ;;
-    kokkos-serial) echo "$K46 -DKokkos_ENABLE_SERIAL=ON ${K_OFF[*]}" ;;
-    kk-host)       echo "$KK47 -DKokkos_ROOT=$(prefix kokkos-host) ${KK_OPTS[*]}" ;;
-    kokkos-cuda)   echo "$K46 -DCMAKE_CXX_COMPILER=@SRC@/bin/nvcc_wrapper -DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON -DKokkos_ARCH_${ARCH}=ON -DCUDAToolkit_ROOT=$CUDA_HOME ${K_OFF[*]}" ;;
-    kk-cuda)       echo "$KK47 -DCMAKE_CXX_COMPILER=$(prefix kokkos-cuda)/bin/nvcc_wrapper -DKokkos_ROOT=$(prefix kokkos-cuda) ${KK_OPTS[*]} ${KK_CUDA_OPTS[*]}" ;;
-  esac
-}
+prefix() { spec "$1"; echo "$OPT/$P"; }
+recipe() { spec "$1"; echo "$R"; }
 needs() { case "$1" in kk-host) echo kokkos-host ;; kk-cuda) echo kokkos-cuda ;; esac; }
 
 build_one() {
@@ -98,9 +98,9 @@ build_one() {
   fi
   args=${args//@SRC@/$work/$src}
   # shellcheck disable=SC2086  # args is a list of -D options without spaces inside
-  nice -n 19 cmake -S "$work/$src" -B "$work/build" "${COMMON[@]}" -DCMAKE_INSTALL_PREFIX="$pre" $args \
+  nice -n "$NICE" cmake -S "$work/$src" -B "$work/build" "${COMMON[@]}" -DCMAKE_INSTALL_PREFIX="$pre" $args \
     > "$work/configure.log" 2>&1 || { tail -n 30 "$work/configure.log" >&2; say "$name: configure failed"; exit 1; }
-  nice -n 19 cmake --build "$work/build" -j "$JOBS" > "$work/build.log" 2>&1 \
+  nice -n "$NICE" cmake --build "$work/build" -j "$JOBS" > "$work/build.log" 2>&1 \
     || { tail -n 40 "$work/build.log" >&2; say "$name: build failed"; exit 1; }
   cmake --install "$work/build" > "$work/install.log" 2>&1 \
     || { tail -n 20 "$work/install.log" >&2; say "$name: install failed"; exit 1; }
