@@ -1,33 +1,16 @@
 // Graph colouring of the free bricks.
-#include <nacre/geometry/specimen.hpp>
+#include "wall_specimen.hpp"
 #include <nacre/mc/colouring.hpp>
 
 #include <catch2/catch_test_macros.hpp>
 
 using namespace nacre;
 
-namespace {
-struct Wall {
-  geometry::Specimen s;
-  geometry::Interfaces f;
-  geometry::Adjacency adj;
-  std::vector<bool> free;
-};
-Wall wall(double angle) {
-  deck::Geometry g;
-  g.width = 40, g.height = 30, g.angle_deg = angle, g.notch_length = 15, g.notch_y = 15;
-  Wall w;
-  w.s = geometry::build_specimen(g);
-  w.f = geometry::find_interfaces(w.s, g);
-  w.adj = geometry::build_adjacency(w.s.size(), w.f);
-  for (auto d : w.s.drive) w.free.push_back(d == geometry::Drive::free);
-  return w;
-}
-}  // namespace
+using test::wall;
 
 TEST_CASE("every strategy gives a valid distance-1 colouring", "[mc][colouring]") {
   for (double angle : {0.0, 30.0}) {
-    const Wall w = wall(angle);
+    const test::Wall w = wall(40, 30, angle, 15);
     for (const auto& name : mc::colouring_strategies()) {
       CAPTURE(angle, name);
       const auto c = mc::colour_graph(name, w.s, w.adj, w.free, 42);
@@ -39,7 +22,7 @@ TEST_CASE("every strategy gives a valid distance-1 colouring", "[mc][colouring]"
 }
 
 TEST_CASE("balanced colouring evens out colour sizes", "[mc][colouring]") {
-  const Wall w = wall(0.0);
+  const test::Wall w = wall(40, 30, 0.0, 15);
   auto sizes = [&](const mc::Colouring& c) {
     std::vector<int> n(c.n_colours, 0);
     for (int col : c.colour)
@@ -55,7 +38,7 @@ TEST_CASE("balanced colouring evens out colour sizes", "[mc][colouring]") {
 }
 
 TEST_CASE("validation catches neighbours that share a colour", "[mc][colouring]") {
-  const Wall w = wall(0.0);
+  const test::Wall w = wall(40, 30, 0.0, 15);
   auto c = mc::colour_graph("natural", w.s, w.adj, w.free, 1);
   // find a free brick with a free neighbour and give both the same colour
   for (std::size_t i = 0; i < w.free.size(); ++i) {

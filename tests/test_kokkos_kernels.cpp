@@ -1,7 +1,7 @@
 // Kokkos Kernels in nacre: the "kokkos-d1" sweep schedule (KokkosGraph distance-1 colouring) and
 // the KokkosBatched dense kernels part 4b will use (batched GEMV, LU solve), each checked
 // against a plain loop. Built only when CMake finds Kokkos Kernels.
-#include <nacre/geometry/specimen.hpp>
+#include "wall_specimen.hpp"
 #include <nacre/mc/colouring.hpp>
 
 #include <KokkosBatched_Gemv_Decl.hpp>
@@ -17,28 +17,11 @@
 
 using namespace nacre;
 
-namespace {
-struct Wall {
-  geometry::Specimen s;
-  geometry::Interfaces f;
-  geometry::Adjacency adj;
-  std::vector<bool> free;
-};
-Wall wall(double width, double height, double angle) {
-  deck::Geometry g;
-  g.width = width, g.height = height, g.angle_deg = angle, g.notch_length = 0.4 * width, g.notch_y = std::floor(height / 2);
-  Wall w;
-  w.s = geometry::build_specimen(g);
-  w.f = geometry::find_interfaces(w.s, g);
-  w.adj = geometry::build_adjacency(w.s.size(), w.f);
-  for (auto d : w.s.drive) w.free.push_back(d == geometry::Drive::free);
-  return w;
-}
-}  // namespace
+using test::wall;
 
 TEST_CASE("kokkos-d1: no two neighbouring free bricks share a colour, reproducibly", "[mc][colouring][kokkoskernels]") {
   for (double angle : {0.0, 30.0}) {
-    const Wall w = wall(120, 80, angle);  // ~2700 bricks
+    const test::Wall w = wall(120, 80, angle, 0.4 * 120);  // ~2700 bricks
     CAPTURE(angle, w.s.size());
     const auto c = mc::colour_graph("kokkos-d1", w.s, w.adj, w.free, 7);
     REQUIRE(c.colour.size() == w.s.size());
