@@ -46,11 +46,12 @@
 #define NACRE_AES_HAVE_VECTOR_EXT 1
 #endif
 
-// nvcc's host pass hands the code to g++, which knows only "GCC unroll": "unroll" for the device
-// passes (and clang) only
+// "unroll" for the device passes (and clang); "GCC unroll" for g++. nvcc's host pass is neither:
+// its front end rejects "GCC unroll" (#1675-D) and g++ after it would not know "unroll", so the
+// host side of a CUDA build (the Serial/OpenMP fallback, not the fast path) gets no pragma.
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__) || defined(__clang__)
 #define NACRE_AES_UNROLL _Pragma("unroll")
-#elif defined(__GNUC__)
+#elif defined(__GNUC__) && !defined(__CUDACC__)
 #define NACRE_AES_UNROLL _Pragma("GCC unroll 128")
 #else
 #define NACRE_AES_UNROLL
