@@ -156,6 +156,11 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         map.type_x[t * kMaxNodes + k] = e.x[k], map.type_y[t * kMaxNodes + k] = e.y[k];
       }
     }
+    m.ainv_diagonal = true;
+    for (int t = 0; t < nt; ++t)
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j)
+          if (i != j && A(t, i, j) != 0.0) m.ainv_diagonal = false;
     Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M);
     Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
     Kokkos::deep_copy(m.type_nodes, N);
@@ -179,6 +184,38 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       D(e) = dv;
     }
     Kokkos::deep_copy(m.type, T), Kokkos::deep_copy(m.cx, X), Kokkos::deep_copy(m.cy, Y), Kokkos::deep_copy(m.drive, D);
+    // tiles of the tiled element apply: within each window of kTileWindow consecutive elements,
+    // the free elements of each type in increasing order, cut into groups of at most kTile. The
+    // window keeps the tiles local (a pass touches each cache line of the state once: UE's 4
+    // triangles of a brick are 4 types, so its tiles take every 4th element of a window), the
+    // grouping by type lets a tile share one matrix. Driven elements are listed apart.
+    constexpr int kTileWindow = 8 * kTile;
+    std::vector<int> te, ts, dr;
+    std::vector<std::vector<int>> of_type(nt);
+    for (int w0 = 0; w0 < ne; w0 += kTileWindow) {
+      for (auto& l : of_type) l.clear();
+      for (int e = w0; e < std::min(ne, w0 + kTileWindow); ++e) {
+        if (D(e) != 0) dr.push_back(e);
+        else of_type[T(e)].push_back(e);
+      }
+      for (const auto& list : of_type)
+        for (std::size_t k = 0; k < list.size(); ++k) {
+          if (k % kTile == 0) ts.push_back(static_cast<int>(te.size()));
+          te.push_back(list[k]);
+        }
+    }
+    ts.push_back(static_cast<int>(te.size()));
+    m.n_tiles = static_cast<int>(ts.size()) - 1, m.n_driven = static_cast<int>(dr.size());
+    m.tile_start = alloc<Kokkos::View<int*>>("tile_start", ts.size());
+    m.tile_elem = alloc<Kokkos::View<int*>>("tile_elem", std::max<std::size_t>(te.size(), 1));
+    m.driven = alloc<Kokkos::View<int*>>("driven", std::max<std::size_t>(dr.size(), 1));
+    auto TS = Kokkos::create_mirror_view(m.tile_start);
+    auto TE = Kokkos::create_mirror_view(m.tile_elem);
+    auto DR = Kokkos::create_mirror_view(m.driven);
+    for (std::size_t k = 0; k < ts.size(); ++k) TS(k) = ts[k];
+    for (std::size_t k = 0; k < te.size(); ++k) TE(k) = te[k];
+    for (std::size_t k = 0; k < dr.size(); ++k) DR(k) = dr[k];
+    Kokkos::deep_copy(m.tile_start, TS), Kokkos::deep_copy(m.tile_elem, TE), Kokkos::deep_copy(m.driven, DR);
   }
 
   // ---- interfaces: locate each segment on one polygon edge of each brick
@@ -247,6 +284,9 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
   }
   const int ni = static_cast<int>(rec.size());
+  if (ni >= kMaxGatherIface)
+    throw std::runtime_error("dyn: " + std::to_string(ni) + " interfaces; the gather list encodes at most " +
+                             std::to_string(kMaxGatherIface - 1));
   m.n_iface = ni;
   m.ielem = alloc<decltype(m.ielem)>("ielem", ni);
   m.inode = alloc<decltype(m.inode)>("inode", ni);
@@ -321,7 +361,10 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     auto O = Kokkos::create_mirror_view(m.goff);
     auto G = Kokkos::create_mirror_view(m.gent);
     std::vector<int> fill(goff.begin(), goff.end() - 1);
-    for (int i = 0; i < ni; ++i) G(fill[rec[i].a.elem]++) = 2 * i, G(fill[rec[i].b.elem]++) = 2 * i + 1;
+    for (int i = 0; i < ni; ++i) {
+      G(fill[rec[i].a.elem]++) = gather_entry(i, 0, rec[i].a.n0, rec[i].a.n1);
+      G(fill[rec[i].b.elem]++) = gather_entry(i, 1, rec[i].b.n0, rec[i].b.n1);
+    }
     for (int e = 0; e <= ne; ++e) O(e) = goff[e];
     Kokkos::deep_copy(m.goff, O), Kokkos::deep_copy(m.gent, G);
   }
@@ -354,6 +397,7 @@ std::size_t model_bytes(const Model<>& m) {
   auto add = [&](const auto& v) { b += v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
   add(m.K), add(m.Ainv), add(m.mass), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
   add(m.type), add(m.cx), add(m.cy), add(m.drive), add(m.fp), add(m.goff), add(m.gent);
+  add(m.tile_start), add(m.tile_elem), add(m.driven);
   add(m.ielem), add(m.inode), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);
   return b;
 }
