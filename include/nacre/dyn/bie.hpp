@@ -197,20 +197,25 @@ struct BieIntegrator {
   // order (and J^-1 is applied in shared_gemm's order), so the two paths give the same bits.
 
   /// out[i][b] = sum_j K(t, i, j) in[j][b] for the tile's lanes.
-  KOKKOS_INLINE_FUNCTION void tile_K(int t, const double (*in)[kTile], double (*out)[kTile]) const {
+  /// (Restrict and a local accumulator: the stores cannot alias the matrix or the functor, so
+  /// the accumulators stay in registers.)
+  KOKKOS_INLINE_FUNCTION void tile_K(int t, const double (*KOKKOS_RESTRICT in)[kTile],
+                                     double (*KOKKOS_RESTRICT out)[kTile]) const {
     const int nd = ex.nd;
     for (int i = 0; i < nd; ++i) {
-      for (int b = 0; b < kTile; ++b) out[i][b] = 0;
+      double y[kTile];
+      for (int b = 0; b < kTile; ++b) y[b] = 0;
       for (int j = 0; j < nd; ++j) {
         const double k = ex.K(t, i, j);
-        for (int b = 0; b < kTile; ++b) out[i][b] += k * in[j][b];
+        for (int b = 0; b < kTile; ++b) y[b] += k * in[j][b];
       }
+      for (int b = 0; b < kTile; ++b) out[i][b] = y[b];
     }
   }
 
   /// a(x) of the current iterate for the tile's lanes (as accel); also loads u and v.
-  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*u)[kTile], double (*v)[kTile],
-                                         double (*ax)[kTile]) const {
+  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*KOKKOS_RESTRICT u)[kTile],
+                                         double (*KOKKOS_RESTRICT v)[kTile], double (*KOKKOS_RESTRICT ax)[kTile]) const {
     const int nd = ex.nd;
     double f[kMaxDof][kTile], w[kMaxDof][kTile], kw[kMaxDof][kTile];
     for (int b = 0; b < kTile; ++b) {
@@ -235,7 +240,7 @@ struct BieIntegrator {
   }
 
   /// x += J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities).
-  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, const double (*g)[kTile]) const {
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, const double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int n = 2 * ex.nd, nd = ex.nd;
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
