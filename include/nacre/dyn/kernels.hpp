@@ -44,6 +44,7 @@ using IforceView = Kokkos::View<double* [8], ElemLayout<MemorySpace>, MemorySpac
 template <class MemorySpace>
 struct InterfaceOp {
   Kokkos::View<const int* [2], ElemLayout<MemorySpace>, MemorySpace> ielem;
+  Kokkos::View<const int*, MemorySpace> ishape;
   Kokkos::View<const std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;
   Kokkos::View<const double* [4], ElemLayout<MemorySpace>, MemorySpace> ixi;
   Kokkos::View<const double*, MemorySpace> inx, iny, ilen;
@@ -55,14 +56,14 @@ struct InterfaceOp {
   double thickness;
 
   InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
-      : ielem(m.ielem), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
+      : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
         u(u_), out(out_), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
 
   /// Nodal displacements of the two edges: q = (a0x a0y a1x a1y b0x b0y b1x b1y).
   KOKKOS_INLINE_FUNCTION void load(int i, double q[8]) const {
-    const int ea = ielem(i, 0), eb = ielem(i, 1);
+    const int ea = ielem(i, 0), eb = ielem(i, 1), sh = ishape(i);
     for (int k = 0; k < 4; ++k) {
-      const int e = k < 2 ? ea : eb, n = inode(i, k);
+      const int e = k < 2 ? ea : eb, n = inode(sh, k);
       q[2 * k] = u(e, 2 * n);
       q[2 * k + 1] = u(e, 2 * n + 1);
     }
@@ -71,11 +72,11 @@ struct InterfaceOp {
   /// Jump (normal, tangential) at segment parameter s and the two sides' edge parameters.
   KOKKOS_INLINE_FUNCTION void jump(int i, const double q[8], double s, double& dn, double& dt, double& xa,
                                    double& xb) const {
-    xa = ixi(i, 0) + s * (ixi(i, 1) - ixi(i, 0));
-    xb = ixi(i, 2) + s * (ixi(i, 3) - ixi(i, 2));
+    xa = ixi(ishape(i), 0) + s * (ixi(ishape(i), 1) - ixi(ishape(i), 0));
+    xb = ixi(ishape(i), 2) + s * (ixi(ishape(i), 3) - ixi(ishape(i), 2));
     const double dx = (1 - xb) * q[4] + xb * q[6] - (1 - xa) * q[0] - xa * q[2];
     const double dy = (1 - xb) * q[5] + xb * q[7] - (1 - xa) * q[1] - xa * q[3];
-    const double nx = inx(i), ny = iny(i);
+    const double nx = inx(ishape(i)), ny = iny(ishape(i));
     dn = dx * nx + dy * ny;
     dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
   }
@@ -86,8 +87,8 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(i)];
-    const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
+    const cohesive::Law& m = laws[ikind(ishape(i))];
+    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
     double e = 0;
     if constexpr (kForce)
       for (int k = 0; k < 8; ++k) f[k] = 0;
@@ -117,7 +118,7 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION bool elastic_force(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(i)];
+    const cohesive::Law& m = laws[ikind(ishape(i))];
     double dn0, dt0, xa0, xb0, dn1, dt1, xa1, xb1;
     jump(i, q, 0.0, dn0, dt0, xa0, xb0);
     jump(i, q, 1.0, dn1, dt1, xa1, xb1);
@@ -125,7 +126,7 @@ struct InterfaceOp {
     if (!(dn0 >= 0.0 && dn1 >= 0.0 && dn0 * dn0 + dt0 * dt0 <= x1sq && dn1 * dn1 + dt1 * dt1 <= x1sq)) return false;
     double dnm, dtm, xam, xbm;
     jump(i, q, 0.5, dnm, dtm, xam, xbm);
-    const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
+    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
     const double c0 = lt * m.k / 6.0, cm = 4.0 * c0;
     const double dn[3] = {dn0, dnm, dn1}, dt[3] = {dt0, dtm, dt1}, xa[3] = {xa0, xam, xa1}, xb[3] = {xb0, xbm, xb1};
     const double c[3] = {c0, cm, c0};
@@ -149,7 +150,7 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(i)];
+    const cohesive::Law& m = laws[ikind(ishape(i))];
     double dmax = 0, dmin = 1e300;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
@@ -169,9 +170,8 @@ template <class MemorySpace>
 struct Integrator {
   using CDof = Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace>;
   using CMat = Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace>;
-  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent, tile_start, tile_elem, driven;
+  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent, tile_start, tile_elem, driven, driven_index;
   Kokkos::View<const std::int8_t*, MemorySpace> drive;
-  Kokkos::View<const std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;
   Kokkos::View<const double*, MemorySpace> cx, cy;
   CMat K, Ainv;
   CDof mass, theta, fp, node_x, node_y;
@@ -189,7 +189,7 @@ struct Integrator {
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const IforceView<MemorySpace>& f_)
       : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), tile_start(m.tile_start),
-        tile_elem(m.tile_elem), driven(m.driven), drive(m.drive), inode(m.inode), cx(m.cx), cy(m.cy), K(m.K),
+        tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
         Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
         v(v_), a(a_), acc(acc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
         ainv_diagonal(m.ainv_diagonal), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
@@ -201,7 +201,8 @@ struct Integrator {
   KOKKOS_INLINE_FUNCTION void pattern(int e, int t, int j, double& px, double& py) const {
     const int side = drive(e);
     const double ry = node_y(t, j);
-    load.displacement(side, cx(e) + node_x(t, j), cy(e) + ry, 1.0, px, py);
+    const int d = driven_index(e);
+    load.displacement(side, cx(d) + node_x(t, j), cy(d) + ry, 1.0, px, py);
     px -= load.slope(side, 1.0) * ry;
   }
 

@@ -67,7 +67,10 @@ struct Model {
 
   // ---- elements
   Kokkos::View<int*, MemorySpace> type;
-  Field<double, MemorySpace> cx, cy;   ///< reference centroid of the element's brick
+  /// Reference centroid of a driven element's brick (only the prescribed motion needs it), at the
+  /// element's index in `driven`: driven_index(e) (-1 for a free element).
+  Kokkos::View<int*, MemorySpace> driven_index;
+  Field<double, MemorySpace> cx, cy;
   Kokkos::View<std::int8_t*, MemorySpace> drive;  ///< -1 bottom, 0 free, +1 top (whole element prescribed)
   Dof fp;          ///< [element][dof] prescribed nodal forces (extent 0 when none)
   /// Gather list (CSR): the interface sides acting on element e are gent[goff[e] .. goff[e+1]),
@@ -84,10 +87,15 @@ struct Model {
 
   // ---- interfaces (first the geometry's bed/head interfaces in its order, then internal joints)
   Kokkos::View<int* [2], ElemLayout<MemorySpace>, MemorySpace> ielem;          ///< element of side a, b
-  Kokkos::View<std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;  ///< local nodes a0 a1 b0 b1
-  Kokkos::View<double* [4], ElemLayout<MemorySpace>, MemorySpace> ixi;         ///< edge parameter of the segment ends a0 a1 b0 b1
-  Field<double, MemorySpace> inx, iny, ilen;
-  Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< geometry::JointKind (bed, head, internal)
+  /// Interface shapes, shared as element types are ("model no more than the scene needs"): the
+  /// geometry of interface i is shape ishape(i); interfaces with bitwise-equal geometry (local
+  /// nodes, normal, length, edge parameters, kind) share one, so a running bond needs a handful.
+  Kokkos::View<int*, MemorySpace> ishape;
+  int n_shapes = 0;
+  Kokkos::View<std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;  ///< [shape] local nodes a0 a1 b0 b1
+  Kokkos::View<double* [4], ElemLayout<MemorySpace>, MemorySpace> ixi;  ///< [shape] edge parameter of the segment ends a0 a1 b0 b1
+  Field<double, MemorySpace> inx, iny, ilen;                              ///< [shape] unit normal a -> b, length
+  Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< [shape] geometry::JointKind (bed, head, internal)
   cohesive::LawTable laws;  ///< one law per joint kind
   cohesive::Quadrature quad;
 
