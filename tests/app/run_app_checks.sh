@@ -16,3 +16,5 @@ if ! diff <(cut -d, -f1-12 short/steps.csv) <(cut -d, -f1-12 direct/steps.csv); 
 fi
 python3 "$src/tests/app/check_outputs.py" short
 echo "restart: $(($(wc -l < direct/steps.csv) - 1)) steps identical to the direct run"
+# every nacre.xdmf this test wrote, as ParaView's Xdmf3 reader needs it (connectivity per topology)
+python3 "$src/tests/app/check_xdmf.py" $(find . -name nacre.xdmf | sort)
