@@ -259,6 +259,11 @@ int Simulation::ruptured() const {
   return count_ruptured(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
 }
 
+double Simulation::max_penetration() const {
+  auto& I = *impl_;
+  return dyn::max_penetration(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+}
+
 Snapshot Simulation::snapshot() const {
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::snapshot");

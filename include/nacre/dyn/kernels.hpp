@@ -541,6 +541,29 @@ int count_ruptured(const ExecutionSpace& space, const InterfaceOp<MemOf<Executio
   return c;
 }
 
+/// \brief Largest penetration of interfaces [0, n) relative to their law's x1, max over the
+/// quadrature points of -dn / x1 (0 when nothing penetrates): the interpenetration penalty
+/// g(dn) = k dn^6 / (16 x1^4) stiffens the joint to k (1 + 1.875 (dn / x1)^4), which lowers the
+/// explicit interface part's stable step like 1 / sqrt of that (docs/methods.md).
+template <class ExecutionSpace>
+double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
+  double r = 0;
+  Kokkos::parallel_reduce(
+      "nacre::dyn::max_penetration", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+      KOKKOS_LAMBDA(const int i, double& acc) {
+        double q[8];
+        op.load(i, q);
+        const double x1 = op.laws[op.ikind(op.ishape(i))].x1;
+        for (int p = 0; p < op.quad.n; ++p) {
+          double dn, dt, xa, xb;
+          op.jump(i, q, op.quad.s[p], dn, dt, xa, xb);
+          acc = Kokkos::max(acc, -dn / x1);
+        }
+      },
+      Kokkos::Max<double>(r));
+  return r;
+}
+
 /// \brief Damage and state of interfaces [0, n).
 template <class ExecutionSpace>
 void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n,

@@ -118,6 +118,9 @@ public:
   [[nodiscard]] Energies energies() const;
   [[nodiscard]] double reaction() const;       ///< vertical force on the top driven edge, N
   [[nodiscard]] int ruptured() const;          ///< bed/head interfaces ruptured
+  /// \brief Largest interpenetration of the bed/head joints, max over quadrature points of -dn / x1
+  /// (0: none); the penalty then stiffens a joint to k (1 + 1.875 (dn / x1)^4).
+  [[nodiscard]] double max_penetration() const;
   [[nodiscard]] Snapshot snapshot() const;
 
   [[nodiscard]] StateArrays save_state() const;
