@@ -80,7 +80,7 @@ public:
   double energy();
   /// \brief Generalised reaction dE/dD at fixed free bricks (central difference).
   double reaction();
-  /// \brief Interfaces at rupture (fully separated at every quadrature point).
+  /// \brief Interfaces at rupture (separated past x1 + x2 along the whole segment: cohesive::min_separation).
   int ruptured();
 
   /// \brief One MC cycle (RNG batch + every colour once); returns accepted trials.
