@@ -74,6 +74,20 @@ void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, c
   source_ = rng::make_uniform_source(deck_.solver.rng, deck_.seed);
   m_ = build_model(space_, s, f, adj, c, deck_.mortar, deck_.solver.quadrature_points);
   allocate_work();
+  polisher_ = Polisher(space_, m_);
+  // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
+  // a brick's length is the force an intact bed joint carries at its limit; a moment is that
+  // force times the brick length.
+  const auto& bed = deck_.mortar.bed;
+  const auto& head = deck_.mortar.head;
+  const double bw = deck_.geometry.brick_width, bh = deck_.geometry.brick_height;
+  scale_.force = std::max(bed.k * bed.x1, head.k * head.x1) * bw;
+  scale_.moment = scale_.force * bw;
+  polish_options_.method = deck_.solver.polish;
+  polish_options_.tolerance = deck_.solver.residual_tolerance;
+  polish_options_.max_iterations = deck_.solver.polish_iterations;
+  polish_options_.rotation_length = bw / std::sqrt(12.0);
+  polish_options_.stiffness = 2.0 * bed.k * bw + 2.0 * head.k * bh;
   D_ = 0;
   set_load(0);
   E_ = energy();
@@ -168,6 +182,23 @@ int Solver::ruptured() {
   return r;
 }
 
+double Solver::residual() {
+  Kokkos::Timer timer;
+  const double r = polisher_.residual(space_, m_, scale_);
+  space_.fence("nacre::mc::residual");
+  times_.polish += timer.seconds();
+  return r;
+}
+
+PolishResult Solver::polish(const std::string& method) {
+  Kokkos::Timer timer;
+  PolishOptions o = polish_options_;
+  if (!method.empty()) o.method = method;
+  const PolishResult r = polisher_.run(space_, m_, scale_, o);
+  times_.polish += timer.seconds();
+  return r;
+}
+
 long Solver::cycle() {
   Kokkos::Timer timer;
   {
@@ -214,21 +245,21 @@ long Solver::cycle() {
   return accepted;
 }
 
-long Solver::relax(bool& converged) {
+long Solver::mc_phase(long budget, bool& window_converged) {
+  // Monte Carlo until the window test passes (or the budget / the backtracking limit is spent)
   const auto& S = deck_.solver;
-  const long limit = S.max_cycles;
   monitor_.reset();
   E_ = energy();
-  converged = false;
+  window_converged = false;
   long c = 0;
-  while (c < limit) {
+  while (c < budget) {
     cycle();
     ++c;
     // Exact resynchronisation: E_ accumulates accepted energy changes (cheap, exact up to
     // rounding); once per window it is replaced by a full reduction so rounding cannot build up.
     if (c % S.window_size == 0) E_ = energy();
     if (monitor_.push(E_)) {
-      converged = true;
+      window_converged = true;
       break;
     }
     if (on_progress && c % 1000 == 0) on_progress(c, E_);
@@ -237,6 +268,37 @@ long Solver::relax(bool& converged) {
       interrupted_ = true;
       break;
     }
+  }
+  return c;
+}
+
+long Solver::relax(bool& converged) {
+  // convergence = "window": one Monte Carlo phase ended by the window test, then the polish (if
+  // any); the residual is reported. convergence = "residual": Monte Carlo phase + polish until
+  // the residual is below the tolerance; a polish that stalls (e.g. in a metastable state) gets
+  // another Monte Carlo phase, until max_cycles (or the backtracking limit) is spent.
+  const auto& S = deck_.solver;
+  const bool by_residual = S.convergence == "residual";
+  const long limit = cycle_limit_ > 0 ? std::min(cycle_limit_, S.max_cycles) : S.max_cycles;
+  converged = false;
+  step_polish_ = 0;
+  long c = 0;
+  for (;;) {
+    bool window = false;
+    c += mc_phase(limit - c, window);
+    if (interrupted_) break;
+    const PolishResult p = polish();
+    step_polish_ += p.iterations;
+    residual_ = p.residual;
+    if (!by_residual) {
+      converged = window;
+      break;
+    }
+    if (p.converged) {
+      converged = true;
+      break;
+    }
+    if (c >= limit) break;
   }
   E_ = energy();
   return c;
@@ -296,6 +358,23 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       }
       break;
     }
+    if (!converged && S.convergence == "residual") {
+      // "not converged after N cycles": the step is not completed; the caller reports it and
+      // keeps the last completed step's checkpoint and rows.
+      failed_ = true;
+      failed_step_ = StepRecord{};
+      failed_step_.step = step + 1;
+      failed_step_.displacement = D_;
+      failed_step_.energy = E_;
+      failed_step_.cycles = cycles;
+      failed_step_.converged = false;
+      failed_step_.increment = inc_now;
+      failed_step_.reverts = reverts;
+      failed_step_.residual = residual_;
+      failed_step_.polish_iterations = step_polish_;
+      failed_step_.seconds = timer.seconds();
+      return;
+    }
     Kokkos::deep_copy(space_, prev_pose_, save_pose_);
     have_prev = true;
     inc_prev = inc_now;
@@ -322,6 +401,10 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     }
     r.increment = inc_now;
     r.reverts = reverts;
+    r.residual = residual_;
+    r.polish_iterations = step_polish_;
+    max_residual_ = std::max(max_residual_, residual_);
+    polish_total_ += step_polish_;
     r.seconds = timer.seconds();
     if (on_step) on_step(r);
   }
