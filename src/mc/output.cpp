@@ -126,6 +126,8 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.integers["window_trials"] = c.window_trials;
   n.reals["increment"] = c.run.increment;
   n.reals["previous_increment"] = c.run.previous_increment;
+  n.reals["max_step_residual"] = c.run.max_residual;
+  n.integers["polish_iterations"] = c.run.polish_iterations;
   n.reals["displacement"] = c.displacement;
   n.reals["step_size"] = c.step_size;
   n.reals["rot_step"] = c.rot_step;
@@ -171,6 +173,8 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   };
   c.run.increment = real("increment", false);
   c.run.previous_increment = real("previous_increment", false);
+  c.run.max_residual = real("max_step_residual", false);
+  c.run.polish_iterations = count("polish_iterations", big);
   c.displacement = real("displacement", false);
   c.step_size = real("step_size", true);
   c.rot_step = real("rot_step", true);

@@ -190,10 +190,11 @@ double Solver::residual() {
   return r;
 }
 
-PolishResult Solver::polish(const std::string& method) {
+PolishResult Solver::polish(const std::string& method, double tolerance) {
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;
   if (!method.empty()) o.method = method;
+  if (tolerance > 0) o.tolerance = tolerance;
   const PolishResult r = polisher_.run(space_, m_, scale_, o);
   times_.polish += timer.seconds();
   return r;
@@ -339,6 +340,8 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     bool converged = false;
     const long acc0 = accepted_total_;
     const long trials0 = trials_total_;
+    const int snap_limit = L.max_ruptures_per_step;
+    const int ruptured0 = snap_limit > 0 ? ruptured() : 0;
     for (;;) {
       if (L.predictor && have_prev) predict(inc_now / inc_prev);
       set_load(D0 + inc_now);
@@ -355,6 +358,19 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
         if (log_) *log_ << "  step " << step + 1 << ": no convergence in " << cycles
                         << " cycles, retrying with increment " << inc_now << "\n";
         continue;
+      }
+      if (converged && snap_limit > 0 && inc_now > L.min_step * (1 + 1e-12)) {
+        // snap-back: many interfaces broke in one increment, so the path between the two states
+        // was jumped over; undo and take half the increment
+        const int broke = ruptured() - ruptured0;
+        if (broke > snap_limit) {
+          Kokkos::deep_copy(space_, m_.pose, save_pose_);
+          inc_now = std::max(L.min_step, 0.5 * inc_now);
+          ++reverts;
+          if (log_) *log_ << "  step " << step + 1 << ": " << broke << " interfaces ruptured in one increment (limit "
+                          << snap_limit << "), retrying with increment " << inc_now << "\n";
+          continue;
+        }
       }
       break;
     }
@@ -403,8 +419,8 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     r.reverts = reverts;
     r.residual = residual_;
     r.polish_iterations = step_polish_;
-    max_residual_ = std::max(max_residual_, residual_);
-    polish_total_ += step_polish_;
+    run_.max_residual = std::max(run_.max_residual, residual_);
+    run_.polish_iterations += step_polish_;
     r.seconds = timer.seconds();
     if (on_step) on_step(r);
   }

@@ -51,6 +51,9 @@ struct Load {
   double max_step = 0.02;      ///< MaxLoadStepSize
   bool adaptive = false;       ///< forward control / backtracking of the increment (eq. 2.8, 2.9)
   bool predictor = false;      ///< position predictor (eq. 2.10, 2.11)
+  /// Snap-back control: a converged increment that ruptured more interfaces than this is undone
+  /// and retried at half the increment (down to min_step); 0: off.
+  int max_ruptures_per_step = 0;
 };
 
 /// \brief Monte Carlo solver, the deck's [solver] table (named MonteCarlo so that it does not clash

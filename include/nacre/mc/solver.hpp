@@ -38,6 +38,8 @@ struct RunState {
   double increment = 0;           ///< next load increment (0: not started)
   double previous_increment = 0;  ///< increment of the last step (predictor ratio)
   bool have_previous = false;     ///< previous converged poses exist (predictor)
+  double max_residual = 0;        ///< largest step residual so far (summary.json)
+  long polish_iterations = 0;     ///< polish iterations so far (summary.json)
 };
 
 /// \brief Everything a checkpoint holds: restarting from it continues the run bit for bit.
@@ -87,8 +89,9 @@ public:
   int ruptured();
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
-  /// \brief Polish the current state with the deck's method (or `method`); see polish.hpp.
-  PolishResult polish(const std::string& method = "");
+  /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
+  /// `tolerance` when > 0); see polish.hpp.
+  PolishResult polish(const std::string& method = "", double tolerance = 0);
   /// \brief The scales the residual is measured against.
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
   /// \brief Exact gradient per free brick after residual() or polish() (sweep order).
@@ -120,10 +123,10 @@ public:
   /// describes it. The poses are mid-step; the last completed step's checkpoint is the good state.
   [[nodiscard]] bool failed() const { return failed_; }
   [[nodiscard]] const StepRecord& failed_step() const { return failed_step_; }
-  /// \brief Largest step residual of the steps run by this object.
-  [[nodiscard]] double max_step_residual() const { return max_residual_; }
-  /// \brief Polish work over the steps run by this object: iterations and seconds.
-  [[nodiscard]] long polish_iterations_total() const { return polish_total_; }
+  /// \brief Largest step residual of the run (restarts included: kept in the checkpoint).
+  [[nodiscard]] double max_step_residual() const { return run_.max_residual; }
+  /// \brief Polish iterations of the run's completed steps (restarts included).
+  [[nodiscard]] long polish_iterations_total() const { return run_.polish_iterations; }
 
   [[nodiscard]] const PhaseTimes& times() const { return times_; }
   [[nodiscard]] double step_size() const { return step_; }
@@ -173,8 +176,8 @@ private:
   Polisher polisher_;
   ResidualScale scale_;
   PolishOptions polish_options_;
-  double residual_ = 0, max_residual_ = 0;  ///< of the last relax(); largest over the steps
-  long step_polish_ = 0, polish_total_ = 0;
+  double residual_ = 0;   ///< of the last relax()
+  long step_polish_ = 0;  ///< polish iterations of the last relax()
   bool failed_ = false;
   StepRecord failed_step_;
   std::ostream* log_;
