@@ -84,49 +84,6 @@ TEST_CASE("Gauss-Legendre rules integrate polynomials of degree 2n-1 exactly", "
   }
 }
 
-namespace {
-// A segment of length 2 along x between two bricks; the gap varies linearly from g0 to g1.
-double seg_energy(const Quadrature& q, double g0x, double g0y, double g1x, double g1y) {
-  return integrate(EnergyTag{}, law, q, Gap{g0x, g0y, g1x, g1y, 0.0, 1.0}, 2.0);
-}
-double reference_energy(double g0x, double g0y, double g1x, double g1y) {
-  // composite midpoint rule, 20000 panels: error ~1e-9 relative even across kinks
-  const int n = 20000;
-  double e = 0;
-  for (int i = 0; i < n; ++i) {
-    const double s = (i + 0.5) / n;
-    const double gx = g0x + s * (g1x - g0x), gy = g0y + s * (g1y - g0y);
-    e += energy_density(law, gy, gx);
-  }
-  return 2.0 * e / n;
-}
-}  // namespace
-
-TEST_CASE("interface quadrature: exact where the density is polynomial, converging across kinks",
-          "[cohesive][quadrature]") {
-  SECTION("elastic range: 2 points are exact") {
-    const double ref = reference_energy(0.001, 0.004, -0.002, 0.008);
-    CHECK(seg_energy(gauss_legendre(2), 0.001, 0.004, -0.002, 0.008) == Catch::Approx(ref).epsilon(1e-7));
-  }
-  SECTION("interpenetration (degree-6 penalty): 4 points are exact") {
-    // dn < 0 all along, |gap| < x1: f quadratic + g degree 6
-    const double ref = reference_energy(0.0, -0.002, 0.0, -0.006);
-    CHECK(seg_energy(gauss_legendre(4), 0.0, -0.002, 0.0, -0.006) == Catch::Approx(ref).epsilon(1e-7));
-    CHECK(std::abs(seg_energy(gauss_legendre(2), 0.0, -0.002, 0.0, -0.006) - ref) > 1e-6 * ref);
-  }
-  SECTION("gap through all branches: error falls with the number of points") {
-    // normal opening from 0 to 0.05 along the segment crosses x1, x2 and x1 + x2
-    const double ref = reference_energy(0.0, 0.0, 0.0, 0.05);
-    double prev = 1e300;
-    for (int n : {2, 4, 8}) {
-      const double err = std::abs(seg_energy(gauss_legendre(n), 0.0, 0.0, 0.0, 0.05) - ref) / ref;
-      CHECK(err < prev);
-      prev = err;
-    }
-    CHECK(prev < 1e-2);  // 8 points: under 1 % even with three kinks inside one segment
-  }
-}
-
 TEST_CASE("interface energy: uniform opening of a rigid pair, and its force", "[cohesive]") {
   // brick a below, brick b above, horizontal bed joint of length 3 at y = 0.5 above a's centroid
   const Segment sg{-1.5, 0.5, 1.5, 0.5, -1.5, -0.5, 1.5, -0.5, 0.0, 1.0, 3.0};
@@ -171,45 +128,6 @@ TEST_CASE("law: Cartesian and local forms agree; the traction is the gradient of
     CHECK(tx == Catch::Approx(ex).margin(1e-5));
     CHECK(ty == Catch::Approx(ey).margin(1e-5));
   }
-}
-
-TEST_CASE("segment: end forces are the gradient of the segment energy (same quadrature loop)",
-          "[cohesive][quadrature]") {
-  const Quadrature q = gauss_legendre(4);
-  const double L = 1.7, nx = 0.6, ny = 0.8;
-  // elastic (closed form), penetrating, across plateau/softening, ruptured at one end
-  const Gap cases[] = {{0.001, 0.002, -0.003, 0.004, nx, ny},
-                       {-0.004, -0.003, -0.001, -0.006, nx, ny},
-                       {0.005, 0.012, 0.02, 0.01, nx, ny},
-                       {0.0, 0.001, 0.03, 0.04, nx, ny}};
-  for (const Gap& g : cases) {
-    const EndForces f = integrate(TractionTag{}, law, q, g, L);
-    const double h = 1e-9;
-    auto E = [&](int c, double d) {
-      Gap p = g;
-      double* v[4] = {&p.g0x, &p.g0y, &p.g1x, &p.g1y};
-      *v[c] += d;
-      return integrate(EnergyTag{}, law, q, p, L);
-    };
-    const double fd[4] = {(E(0, h) - E(0, -h)) / (2 * h), (E(1, h) - E(1, -h)) / (2 * h),
-                          (E(2, h) - E(2, -h)) / (2 * h), (E(3, h) - E(3, -h)) / (2 * h)};
-    INFO("gap ends (" << g.g0x << ", " << g.g0y << ") (" << g.g1x << ", " << g.g1y << ")");
-    CHECK(f.f0x == Catch::Approx(fd[0]).epsilon(1e-5).margin(1e-7));
-    CHECK(f.f0y == Catch::Approx(fd[1]).epsilon(1e-5).margin(1e-7));
-    CHECK(f.f1x == Catch::Approx(fd[2]).epsilon(1e-5).margin(1e-7));
-    CHECK(f.f1y == Catch::Approx(fd[3]).epsilon(1e-5).margin(1e-7));
-  }
-  // in the elastic range the closed form and the quadrature rule agree (2+ points are exact there)
-  const Gap el{0.001, 0.002, -0.003, 0.004, nx, ny};
-  REQUIRE(elastic_segment(law, el));
-  detail::ForceSum acc;
-  quadrature_loop(law, q, el, acc);
-  const EndForces cf = integrate(TractionTag{}, law, q, el, L);
-  CHECK(cf.f0x == Catch::Approx(L * acc.f.f0x).epsilon(1e-12));
-  CHECK(cf.f1y == Catch::Approx(L * acc.f.f1y).epsilon(1e-12));
-  detail::EnergySum es;
-  quadrature_loop(law, q, el, es);
-  CHECK(integrate(EnergyTag{}, law, q, el, L) == Catch::Approx(L * es.e).epsilon(1e-12));
 }
 
 TEST_CASE("law table: one law per joint kind, a rigid model has no internal joints", "[cohesive]") {

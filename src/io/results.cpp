@@ -90,7 +90,11 @@ RunWriter::RunWriter(Options o, const geometry::Specimen& s, const geometry::Int
       dumps_.push_back({*step, t, p.filename().string()});
     }
     write_file_atomic(dir / "steps.csv", csv_);
-    if (o_.hdf5 && !std::filesystem::exists(dir / "mesh.h5")) write_mesh();
+    // the mesh is a function of the geometry alone: rewritten when missing or from a version
+    // without the interfaces' connectivity
+    if (o_.hdf5 && (!std::filesystem::exists(dir / "mesh.h5") ||
+                    !H5Reader((dir / "mesh.h5").string()).has("/interfaces/connectivity")))
+      write_mesh();
     return;
   }
   // A new run (or a restart into another directory) owns the directory's nacre files: dumps of
@@ -155,6 +159,11 @@ void RunWriter::write_mesh() const {
       iref[4 * i + 2] = cx + f.ra1x[i], iref[4 * i + 3] = cy + f.ra1y[i];
     }
     h.write("/interfaces/reference_points", iref, 2);
+    // Polyline connectivity of the interfaces grid: interface i joins points 2i and 2i + 1 of the
+    // dumps' /interfaces/points (ParaView's Xdmf3 reader shows no cells without it)
+    std::vector<std::int32_t> conn(2 * f.size());
+    for (std::size_t i = 0; i < conn.size(); ++i) conn[i] = static_cast<std::int32_t>(i);
+    h.write("/interfaces/connectivity", conn, 2);
     h.attribute("width", s.width);
     h.attribute("height", s.height);
     h.close();
@@ -252,7 +261,9 @@ void RunWriter::write_xdmf() const {
     for (const auto& d : dumps_) {
       x << "  <Grid Name=\"interfaces_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
         << "\"/>\n   <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" << ni
-        << "\"/>\n   <Geometry GeometryType=\"XY\">\n";
+        << "\">\n";
+      item(std::to_string(ni) + " 2", "Int", 4, "mesh.h5:/interfaces/connectivity");
+      x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
       field_item(*ip, d.file);
       x << "   </Geometry>\n";
       attributes(Centre::interface, "Cell", d.file);

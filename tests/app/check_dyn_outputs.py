@@ -12,6 +12,9 @@ import sys
 import xml.etree.ElementTree as ET
 
 import h5py
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_xdmf import check_xdmf  # noqa: E402
 import numpy as np
 
 out = sys.argv[1]
@@ -45,6 +48,7 @@ for k in ["method", "status", "bricks", "dt", "steps", "element_types", "device_
 nb = summary["bricks"]
 
 root = ET.parse(os.path.join(out, "nacre.xdmf")).getroot()
+fail += check_xdmf(os.path.join(out, "nacre.xdmf"))  # Xdmf3: every topology has its connectivity
 count = 0
 for grid in root.iter("Grid"):
     if grid.attrib.get("GridType") != "Uniform":

@@ -10,6 +10,9 @@ import xml.etree.ElementTree as ET
 
 import h5py
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_xdmf import check_xdmf  # noqa: E402
+
 out = sys.argv[1]
 fail = []
 
@@ -35,6 +38,7 @@ if summary.get("convergence") == "residual":  # converged means the residual say
     check(summary["max_step_residual"] == max(float(r["residual"]) for r in rows), "max_step_residual != max of the column")
 n = summary["bricks"]
 root = ET.parse(os.path.join(out, "nacre.xdmf")).getroot()
+fail += check_xdmf(os.path.join(out, "nacre.xdmf"))  # Xdmf3: every topology has its connectivity
 items = root.iter("DataItem")
 count = 0
 for it in items:

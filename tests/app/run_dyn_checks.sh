@@ -72,3 +72,5 @@ if grep -qiE "nan|inf" unstable/series.csv; then echo "FAIL: series.csv holds a 
 python3 "$src/tests/app/check_dyn_outputs.py" unstable --partial
 grep -q '"status": "unstable"' unstable/summary.json || { echo "FAIL: summary does not say unstable"; exit 1; }
 echo "unstable: dt = $dt (4 x critical $h) stopped with exit 3, outputs finite"
+# every nacre.xdmf this test wrote, as ParaView's Xdmf3 reader needs it (connectivity per topology)
+python3 "$src/tests/app/check_xdmf.py" $(find . -name nacre.xdmf | sort)

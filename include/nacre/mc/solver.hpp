@@ -85,7 +85,7 @@ public:
   double energy();
   /// \brief Generalised reaction dE/dD at fixed free bricks (central difference).
   double reaction();
-  /// \brief Interfaces at rupture (fully separated at every quadrature point).
+  /// \brief Interfaces at rupture (separated past x1 + x2 along the whole segment: cohesive::min_separation).
   int ruptured();
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
