@@ -11,6 +11,7 @@
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
 
+#include "kernel_timer.hpp"
 #include "specimen_size.hpp"
 
 #include <CLI/CLI.hpp>
@@ -87,6 +88,10 @@ double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n
   return 3.0 * 8.0 * static_cast<double>(n) / best;
 }
 
+dyn::Method method_of(const std::string& name) {
+  return name == "ue" ? dyn::Method::ue : name == "bie" ? dyn::Method::bie : dyn::Method::be;
+}
+
 std::size_t state_bytes(const dyn::StateArrays& s) {
   std::size_t b = 0;
   for (const char* k : {"u", "v", "a", "acc"})
@@ -105,14 +110,19 @@ int main(int argc, char* argv[]) {
   int blocks = 3;
   double ratio = 500;
   std::size_t triad_n = std::size_t(1) << 25;
-  std::string csv;
+  std::string csv, profile_csv;
   cli.add_option("--bricks", sizes)->delimiter(',');
   cli.add_option("--methods", methods)->delimiter(',');
   cli.add_option("--steps", steps, "steps per timed block");
   cli.add_option("--blocks", blocks, "timed blocks (best is kept)");
   cli.add_option("--ratio", ratio, "stiffness ratio r");
+  std::string apply = "automatic";
+  cli.add_option("--apply", apply, "element apply: automatic, per_element or tiled");
   cli.add_option("--triad-n", triad_n, "doubles per triad array");
   cli.add_option("--csv", csv)->required();
+  cli.add_option("--profile-csv", profile_csv,
+                 "after the timed blocks, one more block with every kernel timed (Kokkos tool callbacks): "
+                 "ms per step per kernel appended here");
   cli.allow_extras();
   CLI11_PARSE(cli, argc, argv);
 
@@ -132,7 +142,7 @@ int main(int argc, char* argv[]) {
     const deck::Deck ds = deck_for(600, ratio);
     geometry::Specimen ss = geometry::build_specimen(ds.geometry);
     const geometry::Interfaces fs = geometry::find_interfaces(ss, ds.geometry);
-    dt[mname] = 0.5 * dyn::critical_step(params_for(ds, mname == "ue" ? dyn::Method::ue : dyn::Method::be), ss, fs,
+    dt[mname] = 0.5 * dyn::critical_step(params_for(ds, method_of(mname)), ss, fs,
                                          ds.mortar, 1000, 0.05);
   }
   for (long n : sizes) {
@@ -140,9 +150,12 @@ int main(int argc, char* argv[]) {
     geometry::Specimen s = geometry::build_specimen(d.geometry);
     const geometry::Interfaces f = geometry::find_interfaces(s, d.geometry);
     for (const auto& mname : methods) {
-      const dyn::Method m = mname == "ue" ? dyn::Method::ue : dyn::Method::be;
+      const dyn::Method m = method_of(mname);
       dyn::Params p = params_for(d, m);
       p.dt = dt[mname];
+      p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
+                        : apply == "per_element" ? dyn::ElementApply::per_element
+                                                 : dyn::ElementApply::automatic;
       std::size_t unshared = 0;
       {
         dyn::Params q = p;
@@ -178,6 +191,32 @@ int main(int argc, char* argv[]) {
           << static_cast<double>(unshared) / nb << "," << eff << "," << triad << "," << triad / eff << "," << p.dt
           << "\n";
       out.flush();
+      if (!profile_csv.empty()) {
+        const bool ph = !std::ifstream(profile_csv).good();
+        std::ofstream pout(profile_csv, std::ios::app);
+        if (ph) pout << "method,bricks,threads,kernel,ms_per_step,cpu_ms_per_step,calls_per_step,share_of_step\n";
+        perf::KernelTimer::start();
+        space.fence();
+        const auto t0 = clock_type::now();
+        const bool ok = sim.advance(space, steps);
+        space.fence();
+        const double total = seconds_since(t0);
+        const auto table = perf::KernelTimer::stop();
+        if (!ok) return 1;
+        double covered = 0;
+        for (const auto& [name, e] : table) {
+          covered += e.seconds;
+          pout << mname << "," << sim.bricks() << "," << threads << "," << name << ","
+               << 1e3 * e.seconds / static_cast<double>(steps) << ","
+               << 1e3 * e.cpu_seconds / static_cast<double>(steps) << ","
+               << static_cast<double>(e.calls) / static_cast<double>(steps) << "," << e.seconds / total << "\n";
+          std::cout << "[dyn_step]   " << name << ": " << 1e3 * e.seconds / static_cast<double>(steps)
+                    << " ms/step (" << 100 * e.seconds / total << " %), master-thread CPU "
+                    << 1e3 * e.cpu_seconds / static_cast<double>(steps) << " ms/step\n";
+        }
+        pout << mname << "," << sim.bricks() << "," << threads << ",(outside kernels),"
+             << 1e3 * (total - covered) / static_cast<double>(steps) << ",,0," << (total - covered) / total << "\n";
+      }
       std::cout << "[dyn_step] " << mname << " " << sim.bricks() << " bricks, " << threads << " threads: "
                 << best * 1e3 << " ms/step, " << moved / 1e6 << " MB/step, " << eff / 1e9 << " GB/s = triad / "
                 << triad / eff << "; " << static_cast<double>(held) / nb << " B/brick shared, "

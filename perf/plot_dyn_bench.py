@@ -52,6 +52,19 @@ for i, m in enumerate(ms):
         ax[2].bar([2 * i, 2 * i + 0.8], [r["bytes_per_brick"], r["bytes_per_brick_unshared"]], width=0.8,
                   color=["C0", "C3"])
         ax[2].text(2 * i + 0.4, r["bytes_per_brick_unshared"], f"{m.upper()}", ha="center", va="bottom")
+# BIE vs BE to the same simulated time: (dt_bie / t_bie) / (dt_be / t_be), same size and threads
+for rb in (r for r in rows if r["method"] == "bie"):
+    re_ = [r for r in rows if r["method"] == "be" and r["threads"] == rb["threads"] and r["bricks"] == rb["bricks"]]
+    if re_:
+        summary.setdefault("bie_over_be_speed", {}).setdefault(f"{int(rb['threads'])}t", {})[int(rb["bricks"])] = {
+            "step_ratio": rb["dt"] / re_[0]["dt"], "cost_ratio": rb["seconds_per_step"] / re_[0]["seconds_per_step"],
+            "speedup": (rb["dt"] / rb["seconds_per_step"]) / (re_[0]["dt"] / re_[0]["seconds_per_step"])}
+prof = os.path.join(out, "dyn_step_profile.csv")
+if os.path.exists(prof):
+    kern = {}
+    for r in csv.DictReader(open(prof)):
+        kern.setdefault(f"{r['method']} {r['bricks']} {r['threads']}t", {})[r["kernel"]] = float(r["ms_per_step"])
+    summary["kernels_ms_per_step"] = kern
 summary["bytes_per_brick"] = {m: {"shared": max((r for r in rows if r["method"] == m), key=lambda r: r["bricks"])["bytes_per_brick"],
                                   "unshared": max((r for r in rows if r["method"] == m), key=lambda r: r["bricks"])["bytes_per_brick_unshared"]}
                               for m in ms}

@@ -4,8 +4,10 @@
 # Usage (from the repository root, on the host):
 #   devenv/nacre-env run perf/run_dyn_bench.sh [OUTDIR]      (default perf/results/dyn_step)
 # Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block NACRE_DYN_STEPS, blocks
-# NACRE_DYN_BLOCKS (best kept); pass them with env: devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
-# Writes OUTDIR/{dyn_step.csv, dyn_step.json, dyn_step.png}.
+# NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie); pass them with env:
+# devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
+# Writes OUTDIR/{dyn_step.csv, dyn_step_profile.csv (ms per step per kernel, one extra block per
+# run with the Kokkos tool callbacks), dyn_step.json, dyn_step.png, machine.txt}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-perf/results/dyn_step}"
@@ -13,10 +15,13 @@ mkdir -p "$out"
 echo "[perf] building (preset openmp)"
 cmake --preset openmp >/dev/null && cmake --build build/openmp -j2 --target nacre_perf_dyn_step >/dev/null
 export OMP_PROC_BIND=spread OMP_PLACES=threads
-rm -f "$out/dyn_step.csv"
+rm -f "$out/dyn_step.csv" "$out/dyn_step_profile.csv"
+echo "$(date -u +%FT%TZ) start: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores" > "$out/machine.txt"
 for nt in 1 2; do
   echo "[perf] time per step, $nt thread(s)"
   build/openmp/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
-    --steps "${NACRE_DYN_STEPS:-100}" --blocks "${NACRE_DYN_BLOCKS:-3}" --csv "$out/dyn_step.csv" --kokkos-num-threads=$nt
+    --methods "${NACRE_DYN_METHODS:-ue,be,bie}" --steps "${NACRE_DYN_STEPS:-100}" --blocks "${NACRE_DYN_BLOCKS:-3}" \
+    --csv "$out/dyn_step.csv" --profile-csv "$out/dyn_step_profile.csv" --kokkos-num-threads=$nt
 done
+echo "$(date -u +%FT%TZ) end: load average $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/machine.txt"
 python3 perf/plot_dyn_bench.py "$out"

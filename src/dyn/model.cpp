@@ -5,6 +5,9 @@
 #include <nacre/dyn/model.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -156,6 +159,11 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         map.type_x[t * kMaxNodes + k] = e.x[k], map.type_y[t * kMaxNodes + k] = e.y[k];
       }
     }
+    m.ainv_diagonal = true;
+    for (int t = 0; t < nt; ++t)
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j)
+          if (i != j && A(t, i, j) != 0.0) m.ainv_diagonal = false;
     Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M);
     Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
     Kokkos::deep_copy(m.type_nodes, N);
@@ -163,22 +171,61 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
 
   // ---- per element: type, centroid, drive
   m.type = alloc<Kokkos::View<int*>>("type", ne);
-  m.cx = alloc<Field<double>>("cx", ne);
-  m.cy = alloc<Field<double>>("cy", ne);
   m.drive = alloc<Kokkos::View<std::int8_t*>>("drive", ne);
+  m.driven_index = alloc<Kokkos::View<int*>>("driven_index", ne);
   {
     auto T = Kokkos::create_mirror_view(m.type);
-    auto X = Kokkos::create_mirror_view(m.cx);
-    auto Y = Kokkos::create_mirror_view(m.cy);
     auto D = Kokkos::create_mirror_view(m.drive);
+    auto DI = Kokkos::create_mirror_view(m.driven_index);
+    std::vector<double> X, Y;
     for (int e = 0; e < ne; ++e) {
       const int b = map.elem_brick[e];
-      T(e) = map.elem_type[e], X(e) = s.cx[b], Y(e) = s.cy[b];
+      T(e) = map.elem_type[e];
       auto dv = static_cast<std::int8_t>(s.drive[b]);
       if (dv > 0 && !m.top_prescribed) dv = 0;
       D(e) = dv;
+      DI(e) = dv != 0 ? static_cast<int>(X.size()) : -1;
+      if (dv != 0) X.push_back(s.cx[b]), Y.push_back(s.cy[b]);
     }
-    Kokkos::deep_copy(m.type, T), Kokkos::deep_copy(m.cx, X), Kokkos::deep_copy(m.cy, Y), Kokkos::deep_copy(m.drive, D);
+    m.cx = alloc<Field<double>>("cx", std::max<std::size_t>(X.size(), 1));
+    m.cy = alloc<Field<double>>("cy", std::max<std::size_t>(Y.size(), 1));
+    auto HX = Kokkos::create_mirror_view(m.cx);
+    auto HY = Kokkos::create_mirror_view(m.cy);
+    for (std::size_t k = 0; k < X.size(); ++k) HX(k) = X[k], HY(k) = Y[k];
+    Kokkos::deep_copy(m.type, T), Kokkos::deep_copy(m.cx, HX), Kokkos::deep_copy(m.cy, HY), Kokkos::deep_copy(m.drive, D);
+    Kokkos::deep_copy(m.driven_index, DI);
+    // tiles of the tiled element apply: within each window of kTileWindow consecutive elements,
+    // the free elements of each type in increasing order, cut into groups of at most kTile. The
+    // window keeps the tiles local (a pass touches each cache line of the state once: UE's 4
+    // triangles of a brick are 4 types, so its tiles take every 4th element of a window), the
+    // grouping by type lets a tile share one matrix. Driven elements are listed apart.
+    constexpr int kTileWindow = 8 * kTile;
+    std::vector<int> te, ts, dr;
+    std::vector<std::vector<int>> of_type(nt);
+    for (int w0 = 0; w0 < ne; w0 += kTileWindow) {
+      for (auto& l : of_type) l.clear();
+      for (int e = w0; e < std::min(ne, w0 + kTileWindow); ++e) {
+        if (D(e) != 0) dr.push_back(e);
+        else of_type[T(e)].push_back(e);
+      }
+      for (const auto& list : of_type)
+        for (std::size_t k = 0; k < list.size(); ++k) {
+          if (k % kTile == 0) ts.push_back(static_cast<int>(te.size()));
+          te.push_back(list[k]);
+        }
+    }
+    ts.push_back(static_cast<int>(te.size()));
+    m.n_tiles = static_cast<int>(ts.size()) - 1, m.n_driven = static_cast<int>(dr.size());
+    m.tile_start = alloc<Kokkos::View<int*>>("tile_start", ts.size());
+    m.tile_elem = alloc<Kokkos::View<int*>>("tile_elem", std::max<std::size_t>(te.size(), 1));
+    m.driven = alloc<Kokkos::View<int*>>("driven", std::max<std::size_t>(dr.size(), 1));
+    auto TS = Kokkos::create_mirror_view(m.tile_start);
+    auto TE = Kokkos::create_mirror_view(m.tile_elem);
+    auto DR = Kokkos::create_mirror_view(m.driven);
+    for (std::size_t k = 0; k < ts.size(); ++k) TS(k) = ts[k];
+    for (std::size_t k = 0; k < te.size(); ++k) TE(k) = te[k];
+    for (std::size_t k = 0; k < dr.size(); ++k) DR(k) = dr[k];
+    Kokkos::deep_copy(m.tile_start, TS), Kokkos::deep_copy(m.tile_elem, TE), Kokkos::deep_copy(m.driven, DR);
   }
 
   // ---- interfaces: locate each segment on one polygon edge of each brick
@@ -247,34 +294,58 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
   }
   const int ni = static_cast<int>(rec.size());
+  if (ni >= kMaxGatherIface)
+    throw std::runtime_error("dyn: " + std::to_string(ni) + " interfaces; the gather list encodes at most " +
+                             std::to_string(kMaxGatherIface - 1));
   m.n_iface = ni;
   m.ielem = alloc<decltype(m.ielem)>("ielem", ni);
-  m.inode = alloc<decltype(m.inode)>("inode", ni);
-  m.ixi = alloc<decltype(m.ixi)>("ixi", ni);
-  m.inx = alloc<Field<double>>("inx", ni);
-  m.iny = alloc<Field<double>>("iny", ni);
-  m.ilen = alloc<Field<double>>("ilen", ni);
-  m.ikind = alloc<decltype(m.ikind)>("ikind", ni);
+  m.ishape = alloc<Kokkos::View<int*>>("ishape", ni);
   std::vector<int> goff(ne + 1, 0);
   {
     auto E = Kokkos::create_mirror_view(m.ielem);
-    auto Nn = Kokkos::create_mirror_view(m.inode);
+    auto SH = Kokkos::create_mirror_view(m.ishape);
+    // shapes: bitwise-equal geometry shares one (exact: no result changes)
+    std::map<std::array<std::uint64_t, 9>, int> shape_of;
+    std::vector<const Rec*> shape_rec;
+    auto bits = [](double x) {
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      return b;
+    };
+    for (int i = 0; i < ni; ++i) {
+      const auto& r = rec[i];
+      E(i, 0) = r.a.elem, E(i, 1) = r.b.elem;
+      const std::array<std::uint64_t, 9> key{
+          bits(r.a.xi0), bits(r.a.xi1), bits(r.b.xi0), bits(r.b.xi1), bits(r.nx), bits(r.ny), bits(r.len), r.kind,
+          static_cast<std::uint64_t>(r.a.n0 | (r.a.n1 << 8) | (r.b.n0 << 16) | (r.b.n1 << 24))};
+      auto [it, fresh] = shape_of.try_emplace(key, static_cast<int>(shape_rec.size()));
+      if (fresh) shape_rec.push_back(&r);
+      SH(i) = it->second;
+      ++goff[r.a.elem + 1], ++goff[r.b.elem + 1];
+    }
+    const int ns = static_cast<int>(shape_rec.size());
+    m.n_shapes = ns;
+    m.ixi = alloc<decltype(m.ixi)>("ixi", std::max(ns, 1));
+    m.inx = alloc<Field<double>>("inx", std::max(ns, 1));
+    m.iny = alloc<Field<double>>("iny", std::max(ns, 1));
+    m.ilen = alloc<Field<double>>("ilen", std::max(ns, 1));
+    m.ikind = alloc<decltype(m.ikind)>("ikind", std::max(ns, 1));
     auto XI = Kokkos::create_mirror_view(m.ixi);
     auto NX = Kokkos::create_mirror_view(m.inx);
     auto NY = Kokkos::create_mirror_view(m.iny);
     auto L = Kokkos::create_mirror_view(m.ilen);
     auto KK = Kokkos::create_mirror_view(m.ikind);
-    for (int i = 0; i < ni; ++i) {
-      const auto& r = rec[i];
-      E(i, 0) = r.a.elem, E(i, 1) = r.b.elem;
-      Nn(i, 0) = static_cast<std::int8_t>(r.a.n0), Nn(i, 1) = static_cast<std::int8_t>(r.a.n1);
-      Nn(i, 2) = static_cast<std::int8_t>(r.b.n0), Nn(i, 3) = static_cast<std::int8_t>(r.b.n1);
-      XI(i, 0) = r.a.xi0, XI(i, 1) = r.a.xi1, XI(i, 2) = r.b.xi0, XI(i, 3) = r.b.xi1;
-      NX(i) = r.nx, NY(i) = r.ny, L(i) = r.len, KK(i) = r.kind;
-      ++goff[r.a.elem + 1], ++goff[r.b.elem + 1];
+    m.inode = alloc<decltype(m.inode)>("inode", std::max(ns, 1));
+    auto Nn = Kokkos::create_mirror_view(m.inode);
+    for (int k = 0; k < ns; ++k) {
+      const auto& r = *shape_rec[k];
+      Nn(k, 0) = static_cast<std::int8_t>(r.a.n0), Nn(k, 1) = static_cast<std::int8_t>(r.a.n1);
+      Nn(k, 2) = static_cast<std::int8_t>(r.b.n0), Nn(k, 3) = static_cast<std::int8_t>(r.b.n1);
+      XI(k, 0) = r.a.xi0, XI(k, 1) = r.a.xi1, XI(k, 2) = r.b.xi0, XI(k, 3) = r.b.xi1;
+      NX(k) = r.nx, NY(k) = r.ny, L(k) = r.len, KK(k) = r.kind;
     }
-    Kokkos::deep_copy(m.ielem, E), Kokkos::deep_copy(m.inode, Nn), Kokkos::deep_copy(m.ixi, XI);
-    Kokkos::deep_copy(m.inx, NX), Kokkos::deep_copy(m.iny, NY), Kokkos::deep_copy(m.ilen, L);
+    Kokkos::deep_copy(m.ielem, E), Kokkos::deep_copy(m.inode, Nn), Kokkos::deep_copy(m.ishape, SH);
+    Kokkos::deep_copy(m.ixi, XI), Kokkos::deep_copy(m.inx, NX), Kokkos::deep_copy(m.iny, NY), Kokkos::deep_copy(m.ilen, L);
     Kokkos::deep_copy(m.ikind, KK);
   }
   // Step estimate: Gershgorin bound on the eigenvalues of M^-1 K_lin, K_lin = element
@@ -321,7 +392,10 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     auto O = Kokkos::create_mirror_view(m.goff);
     auto G = Kokkos::create_mirror_view(m.gent);
     std::vector<int> fill(goff.begin(), goff.end() - 1);
-    for (int i = 0; i < ni; ++i) G(fill[rec[i].a.elem]++) = 2 * i, G(fill[rec[i].b.elem]++) = 2 * i + 1;
+    for (int i = 0; i < ni; ++i) {
+      G(fill[rec[i].a.elem]++) = gather_entry(i, 0, rec[i].a.n0, rec[i].a.n1);
+      G(fill[rec[i].b.elem]++) = gather_entry(i, 1, rec[i].b.n0, rec[i].b.n1);
+    }
     for (int e = 0; e <= ne; ++e) O(e) = goff[e];
     Kokkos::deep_copy(m.goff, O), Kokkos::deep_copy(m.gent, G);
   }
@@ -353,8 +427,9 @@ std::size_t model_bytes(const Model<>& m) {
   std::size_t b = 0;
   auto add = [&](const auto& v) { b += v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
   add(m.K), add(m.Ainv), add(m.mass), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
-  add(m.type), add(m.cx), add(m.cy), add(m.drive), add(m.fp), add(m.goff), add(m.gent);
-  add(m.ielem), add(m.inode), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);
+  add(m.type), add(m.driven_index), add(m.cx), add(m.cy), add(m.drive), add(m.fp), add(m.goff), add(m.gent);
+  add(m.tile_start), add(m.tile_elem), add(m.driven);
+  add(m.ielem), add(m.inode), add(m.ishape), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);
   return b;
 }
 

@@ -75,6 +75,7 @@ inline Eigen::VectorXd linear_spectrum(dyn::Params p, const Setup& st, const dec
   auto XI = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ixi);
   auto L = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ilen);
   auto KK = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ikind);
+  auto SH = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ishape);  // interface -> shape
   auto D = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.drive);
   // global dof numbering of the free, active dofs
   std::vector<int> id(static_cast<std::size_t>(m.n_elem) * m.nd, -1);
@@ -96,14 +97,14 @@ inline Eigen::VectorXd linear_spectrum(dyn::Params p, const Setup& st, const dec
   }
   const auto q = cohesive::gauss_legendre(4);
   for (int i = 0; i < m.n_iface; ++i) {
-    const double klt = m.laws[KK(i)].k * L(i) * p.thickness;
+    const double klt = m.laws[KK(SH(i))].k * L(SH(i)) * p.thickness;
     for (int g = 0; g < q.n; ++g) {
-      const double xa = XI(i, 0) + q.s[g] * (XI(i, 1) - XI(i, 0)), xb = XI(i, 2) + q.s[g] * (XI(i, 3) - XI(i, 2));
+      const double xa = XI(SH(i), 0) + q.s[g] * (XI(SH(i), 1) - XI(SH(i), 0)), xb = XI(SH(i), 2) + q.s[g] * (XI(SH(i), 3) - XI(SH(i), 2));
       const double Nn[4] = {-(1 - xa), -xa, 1 - xb, xb};
       for (int c = 0; c < 2; ++c)
         for (int a = 0; a < 4; ++a)
           for (int b = 0; b < 4; ++b) {
-            const int I = id[E(i, a / 2) * m.nd + 2 * N(i, a) + c], J = id[E(i, b / 2) * m.nd + 2 * N(i, b) + c];
+            const int I = id[E(i, a / 2) * m.nd + 2 * N(SH(i), a) + c], J = id[E(i, b / 2) * m.nd + 2 * N(SH(i), b) + c];
             if (I >= 0 && J >= 0) Kg(I, J) += q.w[g] * klt * Nn[a] * Nn[b];
           }
     }

@@ -52,11 +52,12 @@ struct Probe {
     dyn::interface_forces(Exec{}, dyn::InterfaceOp<Mem>(m, u, f), m.n_iface);
     auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, f);
     auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ielem);
-    auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.inode);
+    auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.inode);   // per shape
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ishape);  // interface -> shape
     Eigen::VectorXd F = Eigen::VectorXd::Zero(n());
     for (int i = 0; i < m.n_iface; ++i)
       for (int k = 0; k < 4; ++k) {
-        const int e = he(i, k / 2), node = hn(i, k);
+        const int e = he(i, k / 2), node = hn(hs(i), k);
         F(e * m.nd + 2 * node) += hf(i, 2 * k);
         F(e * m.nd + 2 * node + 1) += hf(i, 2 * k + 1);
       }

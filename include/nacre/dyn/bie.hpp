@@ -18,8 +18,8 @@
 ///   so that is exact; with damping it differs by O(h^3) and saves one interface evaluation per
 ///   step. The state between steps is (p, v, a) as for UE/BE: outputs, checkpoints and the
 ///   blow-up check are shared unchanged.
-/// - The residual block R is View<double**, LayoutLeft> [slot][2 nd]: slot index fastest
-///   (coalesced on a GPU, contiguous SIMD runs on a CPU); slots are the elements sorted by element
+/// - The residual block R is View<double**, ElemLayout> [slot][2 nd]: slot index fastest on a GPU
+///   (coalesced), a slot's 2 nd entries contiguous on a CPU (one stream per pass); slots are the elements sorted by element
 ///   type, so the shared-J^-1 variant multiplies one type's J^-1 with a contiguous 2nd x n block.
 /// - The J^-1 apply is one interface with four variants (tags, one operator() each), all in place
 ///   (each work item copies its input to registers/stack before writing): row, reordered<NB>,
@@ -37,14 +37,13 @@
 namespace nacre::dyn {
 
 inline constexpr int kMaxBie = 2 * kMaxDof;  ///< largest J: 2 x 16 dof
-inline constexpr int kTile = 8;              ///< shared_gemm: slots per work item (one SIMD register pair of doubles)
 inline constexpr int kRowBlock = 4;          ///< shared_gemm: rows of accumulators per pass
 
 /// \brief J^-1 per element type and the slot ordering (elements sorted by type).
 template <class MemorySpace = MemSpace>
 struct BieTables {
   using TypeMat = typename Model<MemorySpace>::TypeMat;
-  TypeMat Jinv;                                   ///< [type][2nd][2nd], LayoutLeft as K
+  TypeMat Jinv;                                   ///< [type][2nd][2nd], layout as K
   Kokkos::View<int*, MemorySpace> slot_of_elem;   ///< element -> slot
   Kokkos::View<int*, MemorySpace> slot_type;      ///< slot -> element type
   Kokkos::View<int*, MemorySpace> tile_start;     ///< shared_gemm work items: first slot of each tile
@@ -75,6 +74,12 @@ struct BieStartTag {};
 struct BieResidualTag {};
 struct BieUpdateTag {};
 struct BieFinalTag {};
+// fused, tiled (shared_gemm with the tiled element apply): one kernel per phase over the element
+// tiles of Model (kTile free elements of one type), the residual kept in registers / L1 and
+// J^-1 applied to it in place: no residual block R in memory, no slot order
+struct BieStartTileTag {};
+struct BieIterTileTag {};
+struct BieFinalTileTag {};
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
 /// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
@@ -82,8 +87,9 @@ template <class MemorySpace>
 struct BieIntegrator {
   Integrator<MemorySpace> ex;
   Kokkos::View<const int*, MemorySpace> slot_of_elem;
-  DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot
+  DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot (unfused path)
   bool book = true;                ///< BieFinalTag: accumulate work and damping (false: a only)
+  Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 per type (fused path)
 
   KOKKOS_INLINE_FUNCTION double minv(int t, int j) const {
     const double m = ex.mass(t, j);
@@ -151,14 +157,14 @@ struct BieIntegrator {
   }
 
   /// End of step: a_{n+1} = a(x_{n+1}); work of F_p + Theta over dp, damping dp . C v_mid
-  /// (implicit midpoint); R(s, 0..1) = m-weighted |G_v|^2 and |dv|^2 of the final state.
+  /// (implicit midpoint); acc(e, kBieG2 / kBieD2) = m-weighted |G_v|^2 and |dv|^2 of the final state.
   /// Driven elements: reaction and work as in the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieFinalTag, int e) const {
     if (ex.drive(e) != 0) {
       if (book) ex(FinalTag{}, e);
       return;
     }
-    const int t = ex.type(e), s = slot_of_elem(e), nd = ex.nd;
+    const int t = ex.type(e), nd = ex.nd;
     double ax[kMaxDof];
     accel(e, t, ax);
     if (!book) {
@@ -184,7 +190,183 @@ struct BieIntegrator {
     }
     ex.acc(e, kWork) += work;
     ex.acc(e, kDamp) += pd;
-    R(s, 0) = g2, R(s, 1) = d2;
+    ex.acc(e, kBieG2) = g2, ex.acc(e, kBieD2) = d2;
+  }
+
+  // ---- fused tiled path. Every per-element sum is the one of the unfused kernels in the same
+  // order (and J^-1 is applied in shared_gemm's order), so the two paths give the same bits.
+
+  /// out[i][b] = sum_j K(t, i, j) in[j][b] for the tile's lanes.
+  /// (Restrict and a local accumulator: the stores cannot alias the matrix or the functor, so
+  /// the accumulators stay in registers.)
+  KOKKOS_INLINE_FUNCTION void tile_K(int t, const double (*KOKKOS_RESTRICT in)[kTile],
+                                     double (*KOKKOS_RESTRICT out)[kTile]) const {
+    const int nd = ex.nd;
+    for (int i = 0; i < nd; ++i) {
+      double y[kTile];
+      for (int b = 0; b < kTile; ++b) y[b] = 0;
+      for (int j = 0; j < nd; ++j) {
+        const double k = ex.K(t, i, j);
+        for (int b = 0; b < kTile; ++b) y[b] += k * in[j][b];
+      }
+      for (int b = 0; b < kTile; ++b) out[i][b] = y[b];
+    }
+  }
+
+  /// a(x) of the current iterate for the tile's lanes (as accel); also loads u and v.
+  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*KOKKOS_RESTRICT u)[kTile],
+                                         double (*KOKKOS_RESTRICT v)[kTile], double (*KOKKOS_RESTRICT ax)[kTile]) const {
+    const int nd = ex.nd;
+    double f[kMaxDof][kTile], w[kMaxDof][kTile], kw[kMaxDof][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      if (b >= nb) {
+        for (int j = 0; j < nd; ++j) u[j][b] = v[j][b] = f[j][b] = w[j][b] = 0;
+        continue;
+      }
+      const int e = ex.tile_elem(k0 + b);
+      double fi[kMaxDof];
+      ex.gather(e, fi);
+      for (int j = 0; j < nd; ++j) {
+        f[j][b] = fi[j] + (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0));  // as accel's f += ...
+        u[j][b] = ex.u(e, j), v[j][b] = ex.v(e, j);
+        w[j][b] = u[j][b] + ex.beta * v[j][b];
+      }
+    }
+    tile_K(t, w, kw);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) ax[i][b] = mi * (f[i][b] - kw[i][b]) - ex.alpha * v[i][b];
+    }
+  }
+
+  /// x += J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities).
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, const double (*KOKKOS_RESTRICT g)[kTile]) const {
+    const int n = 2 * ex.nd, nd = ex.nd;
+    for (int i0 = 0; i0 < n; i0 += kRowBlock) {
+      double y[kRowBlock][kTile];
+      for (int q = 0; q < kRowBlock; ++q)
+        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
+      const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
+      for (int j = 0; j < n; ++j)
+        for (int q = 0; q < kRowBlock; ++q) {
+          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
+          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
+        }
+      for (int q = 0; q < nq; ++q) {
+        const int row = i0 + q;
+        for (int b = 0; b < nb; ++b) {
+          const int e = ex.tile_elem(k0 + b);
+          if (row < nd) ex.u(e, row) += y[q][b];
+          else ex.v(e, row - nd) += y[q][b];
+        }
+      }
+    }
+  }
+
+  /// Start (BieStartTag) and the first J^-1 apply and update, per tile; driven elements impose t_{n+1}.
+  KOKKOS_INLINE_FUNCTION void operator()(BieStartTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      ex(InitialTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double g[kMaxBie][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      if (b >= nb) {
+        for (int j = 0; j < 2 * nd; ++j) g[j][b] = 0;
+        continue;
+      }
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) {
+        const double p = ex.u(e, j), v = ex.v(e, j), a = ex.a(e, j);
+        pn(e, j) = p, vn(e, j) = v;
+        g[j][b] = h * v + 0.5 * h * h * a;
+        g[nd + j][b] = h * a;
+      }
+    }
+    tile_solve_update(t, k0, nb, g);
+  }
+
+  /// Residual (BieResidualTag), J^-1 apply and update, per tile; driven elements untouched.
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterTileTag, int w) const {
+    if (w >= ex.n_tiles) return;
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], dp[kMaxDof][kTile], dv[kMaxDof][kTile],
+        wv[kMaxDof][kTile], kw[kMaxDof][kTile], g[kMaxBie][kTile];
+    tile_accel(t, k0, nb, u, v, ax);
+    double vnl[kMaxDof][kTile], an[kMaxDof][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      const int e = ex.tile_elem(k0 + (b < nb ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        const double p0 = b < nb ? pn(e, j) : 0.0, v0 = b < nb ? vn(e, j) : 0.0;
+        vnl[j][b] = v0, an[j][b] = b < nb ? ex.a(e, j) : 0.0;
+        dp[j][b] = u[j][b] - p0, dv[j][b] = v[j][b] - v0;
+        wv[j][b] = dp[j][b] + ex.beta * dv[j][b];
+      }
+    }
+    tile_K(t, wv, kw);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        const double kc = mi * kw[i][b] + ex.alpha * dv[i][b];
+        g[i][b] = h * vnl[i][b] + 0.5 * h * h * an[i][b] - 0.25 * h * h * kc - dp[i][b];
+        g[nd + i][b] = 0.5 * h * (an[i][b] + ax[i][b]) - dv[i][b];
+      }
+    }
+    tile_solve_update(t, k0, nb, g);
+  }
+
+  /// End of step (BieFinalTag) per tile; driven elements as the explicit methods.
+  KOKKOS_INLINE_FUNCTION void operator()(BieFinalTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
+    tile_accel(t, k0, nb, u, v, ax);
+    if (!book) {
+      for (int b = 0; b < nb; ++b) {
+        const int e = ex.tile_elem(k0 + b);
+        for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
+      }
+      return;
+    }
+    double work[kTile], dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile], v0[kMaxDof][kTile],
+        a0[kMaxDof][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      work[b] = 0;
+      const bool live = b < nb;
+      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
+        dp[j][b] = u[j][b] - (live ? pn(e, j) : 0.0);
+        vm[j][b] = 0.5 * (v[j][b] + v0[j][b]);
+        work[b] += (ex.theta(t, j) + (ex.has_fp && live ? ex.fp(e, j) : 0.0)) * dp[j][b];
+      }
+    }
+    tile_K(t, vm, kv);
+    double pd[kTile], g2[kTile], d2[kTile];
+    for (int b = 0; b < kTile; ++b) pd[b] = g2[b] = d2[b] = 0;
+    for (int i = 0; i < nd; ++i) {
+      const double m = ex.mass(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + ex.beta * kv[i][b]);
+        const double dvi = v[i][b] - v0[i][b];
+        const double gv = 0.5 * h * (a0[i][b] + ax[i][b]) - dvi;
+        g2[b] += m * gv * gv, d2[b] += m * dvi * dvi;
+      }
+    }
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
+      ex.acc(e, kWork) += work[b];
+      ex.acc(e, kDamp) += pd[b];
+      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+    }
   }
 };
 
@@ -198,7 +380,7 @@ struct SolveTileTag {};
 
 template <class MemorySpace>
 struct BieSolveOp {
-  Kokkos::View<const double***, Kokkos::LayoutLeft, MemorySpace> J;  ///< J^-1 [type][row][col]
+  Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 [type][row][col]
   Kokkos::View<const int*, MemorySpace> slot_type, tile_start, tile_count;
   DofView<MemorySpace> R;
   int n;  ///< 2 nd
@@ -322,8 +504,28 @@ void bie_solve(const ExecutionSpace& space, const BieSolveOp<MemOf<ExecutionSpac
 template <class ExecutionSpace>
 void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSpace>>& it,
               const InterfaceOp<MemOf<ExecutionSpace>>& op, const BieSolveOp<MemOf<ExecutionSpace>>& solve,
-              BieSolve variant, int block, int iterations, bool reuse_force, int n_elem, int n_iface, int n_tiles) {
+              BieSolve variant, int block, int iterations, bool reuse_force, int n_elem, int n_iface, int n_tiles,
+              bool fused = false) {
   using Exec = ExecutionSpace;
+  if (fused) {  // shared J^-1 over the element tiles, residual never stored (BieStartTileTag ...)
+    const int nw = it.ex.n_tiles + it.ex.n_driven;
+    {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
+      Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw), it);
+    }
+    for (int k = 0; k < iterations; ++k) {
+      if (k > 0) {
+        Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
+        Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw), it);
+      }
+      if (reuse_force && k == iterations - 1 && k > 0) break;
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+      Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
+    }
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
+    Kokkos::parallel_for("nacre::dyn::bie_final_tiled", Kokkos::RangePolicy<Exec, BieFinalTileTag>(space, 0, nw), it);
+    return;
+  }
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
     Kokkos::parallel_for("nacre::dyn::bie_start", Kokkos::RangePolicy<Exec, BieStartTag>(space, 0, n_elem), it);
@@ -357,22 +559,22 @@ void bie_accelerations(const ExecutionSpace& space, BieIntegrator<MemOf<Executio
                        it);
 }
 
-/// \brief Relative residual of the last step (see Simulation::bie_residual), from R(s, 0..1).
+/// \brief Relative residual of the last step (see Simulation::bie_residual), from the free
+/// elements' acc(e, kBieG2), acc(e, kBieD2).
 template <class ExecutionSpace>
-double bie_last_residual(const ExecutionSpace& space, const DofView<MemOf<ExecutionSpace>>& R,
-                         const Kokkos::View<const std::int8_t*, MemOf<ExecutionSpace>>& drive,
-                         const Kokkos::View<const int*, MemOf<ExecutionSpace>>& slot_of_elem, int n_elem) {
+double bie_last_residual(const ExecutionSpace& space, const AccView<MemOf<ExecutionSpace>>& acc,
+                         const Kokkos::View<const std::int8_t*, MemOf<ExecutionSpace>>& drive, int n_elem) {
   double g = 0, d = 0;
   Kokkos::parallel_reduce(
       "nacre::dyn::bie_residual_norm", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
       KOKKOS_LAMBDA(const int e, double& gs) {
-        if (drive(e) == 0) gs += R(slot_of_elem(e), 0);
+        if (drive(e) == 0) gs += acc(e, kBieG2);
       },
       g);
   Kokkos::parallel_reduce(
       "nacre::dyn::bie_residual_norm", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
       KOKKOS_LAMBDA(const int e, double& ds) {
-        if (drive(e) == 0) ds += R(slot_of_elem(e), 1);
+        if (drive(e) == 0) ds += acc(e, kBieD2);
       },
       d);
   return d > 0 ? Kokkos::sqrt(g / d) : 0.0;

@@ -23,42 +23,47 @@ namespace nacre::dyn {
 struct ForceTag {};
 struct InitialTag {};
 struct FinalTag {};
+struct FinalTileTag {};
 
 /// Column of the per-element accumulators.
 /// Driven elements keep, from the previous step: kGPrev = F_i . pattern (the interface force
 /// along the prescribed motion), kDampPowPrev = v^T C v, kEnergyPrev = kinetic + strain energy.
 enum AccCol : int { kWork = 0, kDamp = 1, kGPrev = 2, kDampPowPrev = 3, kReact = 4, kEnergyPrev = 5, kAccCols = 6 };
+/// BIE: free elements (which never use kGPrev, kDampPowPrev) keep there the m-weighted |G_v|^2 and
+/// |v_{n+1} - v_n|^2 of the last step (Simulation::bie_residual).
+inline constexpr int kBieG2 = kGPrev, kBieD2 = kDampPowPrev;
 
 template <class MemorySpace>
 using DofView = typename Model<MemorySpace>::Dof;
 template <class MemorySpace>
-using AccView = Kokkos::View<double* [kAccCols], Kokkos::LayoutLeft, MemorySpace>;
+using AccView = Kokkos::View<double* [kAccCols], ElemLayout<MemorySpace>, MemorySpace>;
 template <class MemorySpace>
-using IforceView = Kokkos::View<double* [8], Kokkos::LayoutLeft, MemorySpace>;
+using IforceView = Kokkos::View<double* [8], ElemLayout<MemorySpace>, MemorySpace>;
 
 /// \brief Cohesive interfaces acting on the jump of the element displacements `u`.
 template <class MemorySpace>
 struct InterfaceOp {
-  Kokkos::View<const int* [2], Kokkos::LayoutLeft, MemorySpace> ielem;
-  Kokkos::View<const std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;
-  Kokkos::View<const double* [4], Kokkos::LayoutLeft, MemorySpace> ixi;
+  Kokkos::View<const int* [2], ElemLayout<MemorySpace>, MemorySpace> ielem;
+  Kokkos::View<const int*, MemorySpace> ishape;
+  Kokkos::View<const std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;
+  Kokkos::View<const double* [4], ElemLayout<MemorySpace>, MemorySpace> ixi;
   Kokkos::View<const double*, MemorySpace> inx, iny, ilen;
   Kokkos::View<const std::uint8_t*, MemorySpace> ikind;
-  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> u;
+  Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace> u;
   IforceView<MemorySpace> out;
   cohesive::LawTable laws;
   cohesive::Quadrature quad;
   double thickness;
 
   InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
-      : ielem(m.ielem), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
+      : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
         u(u_), out(out_), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
 
   /// Nodal displacements of the two edges: q = (a0x a0y a1x a1y b0x b0y b1x b1y).
   KOKKOS_INLINE_FUNCTION void load(int i, double q[8]) const {
-    const int ea = ielem(i, 0), eb = ielem(i, 1);
+    const int ea = ielem(i, 0), eb = ielem(i, 1), sh = ishape(i);
     for (int k = 0; k < 4; ++k) {
-      const int e = k < 2 ? ea : eb, n = inode(i, k);
+      const int e = k < 2 ? ea : eb, n = inode(sh, k);
       q[2 * k] = u(e, 2 * n);
       q[2 * k + 1] = u(e, 2 * n + 1);
     }
@@ -67,11 +72,11 @@ struct InterfaceOp {
   /// Jump (normal, tangential) at segment parameter s and the two sides' edge parameters.
   KOKKOS_INLINE_FUNCTION void jump(int i, const double q[8], double s, double& dn, double& dt, double& xa,
                                    double& xb) const {
-    xa = ixi(i, 0) + s * (ixi(i, 1) - ixi(i, 0));
-    xb = ixi(i, 2) + s * (ixi(i, 3) - ixi(i, 2));
+    xa = ixi(ishape(i), 0) + s * (ixi(ishape(i), 1) - ixi(ishape(i), 0));
+    xb = ixi(ishape(i), 2) + s * (ixi(ishape(i), 3) - ixi(ishape(i), 2));
     const double dx = (1 - xb) * q[4] + xb * q[6] - (1 - xa) * q[0] - xa * q[2];
     const double dy = (1 - xb) * q[5] + xb * q[7] - (1 - xa) * q[1] - xa * q[3];
-    const double nx = inx(i), ny = iny(i);
+    const double nx = inx(ishape(i)), ny = iny(ishape(i));
     dn = dx * nx + dy * ny;
     dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
   }
@@ -82,8 +87,8 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(i)];
-    const double lt = ilen(i) * thickness, nx = inx(i), ny = iny(i);
+    const cohesive::Law& m = laws[ikind(ishape(i))];
+    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
     double e = 0;
     if constexpr (kForce)
       for (int k = 0; k < 8; ++k) f[k] = 0;
@@ -105,9 +110,38 @@ struct InterfaceOp {
 
   KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate<true, false>(i, nullptr); }
 
+  /// Forces of interface i when the whole segment is elastic and open: |jump|^2 is convex in s
+  /// and dn linear, so both ends inside the elastic disc with dn >= 0 put every point there; the
+  /// traction is then k (dn, dt), the integrand (shape function x traction) a quadratic in s, and
+  /// Simpson's rule (3 points, no sqrt, no division, no branch per point) is exact, as the n >= 2
+  /// point Gauss rule is: the same integral to rounding. Returns false (f untouched) otherwise.
+  KOKKOS_INLINE_FUNCTION bool elastic_force(int i, double* f) const {
+    double q[8];
+    load(i, q);
+    const cohesive::Law& m = laws[ikind(ishape(i))];
+    double dn0, dt0, xa0, xb0, dn1, dt1, xa1, xb1;
+    jump(i, q, 0.0, dn0, dt0, xa0, xb0);
+    jump(i, q, 1.0, dn1, dt1, xa1, xb1);
+    const double x1sq = m.x1 * m.x1;
+    if (!(dn0 >= 0.0 && dn1 >= 0.0 && dn0 * dn0 + dt0 * dt0 <= x1sq && dn1 * dn1 + dt1 * dt1 <= x1sq)) return false;
+    double dnm, dtm, xam, xbm;
+    jump(i, q, 0.5, dnm, dtm, xam, xbm);
+    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
+    const double c0 = lt * m.k / 6.0, cm = 4.0 * c0;
+    const double dn[3] = {dn0, dnm, dn1}, dt[3] = {dt0, dtm, dt1}, xa[3] = {xa0, xam, xa1}, xb[3] = {xb0, xbm, xb1};
+    const double c[3] = {c0, cm, c0};
+    for (int k = 0; k < 8; ++k) f[k] = 0;
+    for (int p = 0; p < 3; ++p) {
+      const double tx = c[p] * (dn[p] * nx - dt[p] * ny), ty = c[p] * (dn[p] * ny + dt[p] * nx);
+      f[0] += (1 - xa[p]) * tx, f[1] += (1 - xa[p]) * ty, f[2] += xa[p] * tx, f[3] += xa[p] * ty;
+      f[4] -= (1 - xb[p]) * tx, f[5] -= (1 - xb[p]) * ty, f[6] -= xb[p] * tx, f[7] -= xb[p] * ty;
+    }
+    return true;
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(ForceTag, int i) const {
     double f[8];
-    integrate<false, true>(i, f);
+    if (!(quad.n >= 2 && elastic_force(i, f))) integrate<false, true>(i, f);
     for (int k = 0; k < 8; ++k) out(i, k) = f[k];
   }
 
@@ -116,7 +150,7 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(i)];
+    const cohesive::Law& m = laws[ikind(ishape(i))];
     double dmax = 0, dmin = 1e300;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
@@ -134,19 +168,19 @@ struct InterfaceOp {
 /// report the force needed to move them (reaction, external work).
 template <class MemorySpace>
 struct Integrator {
-  using CDof = Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace>;
-  using CMat = Kokkos::View<const double***, Kokkos::LayoutLeft, MemorySpace>;
-  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent;
+  using CDof = Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace>;
+  using CMat = Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace>;
+  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent, tile_start, tile_elem, driven, driven_index;
   Kokkos::View<const std::int8_t*, MemorySpace> drive;
-  Kokkos::View<const std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;
   Kokkos::View<const double*, MemorySpace> cx, cy;
   CMat K, Ainv;
   CDof mass, theta, fp, node_x, node_y;
-  Kokkos::View<const double* [8], Kokkos::LayoutLeft, MemorySpace> iforce;
+  Kokkos::View<const double* [8], ElemLayout<MemorySpace>, MemorySpace> iforce;
   DofView<MemorySpace> u, v, a;
   AccView<MemorySpace> acc;
-  int nd;
-  bool has_fp;
+  int nd, n_tiles, n_driven;
+  bool has_fp, ainv_diagonal;
+  bool tiled = false;  ///< final_integrate over tiles (FinalTileTag) instead of per element (FinalTag)
   double h, alpha, beta;
   loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
@@ -154,10 +188,11 @@ struct Integrator {
 
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const IforceView<MemorySpace>& f_)
-      : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), drive(m.drive), inode(m.inode),
-        cx(m.cx), cy(m.cy), K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x),
-        node_y(m.node_y), iforce(f_), u(u_), v(v_), a(a_), acc(acc_), nd(m.nd), has_fp(m.fp.extent(0) > 0),
-        h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
+      : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), tile_start(m.tile_start),
+        tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
+        Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
+        v(v_), a(a_), acc(acc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
+        ainv_diagonal(m.ainv_diagonal), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
   /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
   /// displacement at the node (u_y = side/2 [tension + bending (1 - x/W)]) plus the small
@@ -166,7 +201,8 @@ struct Integrator {
   KOKKOS_INLINE_FUNCTION void pattern(int e, int t, int j, double& px, double& py) const {
     const int side = drive(e);
     const double ry = node_y(t, j);
-    load.displacement(side, cx(e) + node_x(t, j), cy(e) + ry, 1.0, px, py);
+    const int d = driven_index(e);
+    load.displacement(side, cx(d) + node_x(t, j), cy(d) + ry, 1.0, px, py);
     px -= load.slope(side, 1.0) * ry;
   }
 
@@ -189,8 +225,7 @@ struct Integrator {
   KOKKOS_INLINE_FUNCTION void gather(int e, double* fi) const {
     for (int j = 0; j < nd; ++j) fi[j] = 0;
     for (int k = goff(e); k < goff(e + 1); ++k) {
-      const int ent = gent(k), i = ent >> 1, side = ent & 1;
-      const int n0 = inode(i, 2 * side), n1 = inode(i, 2 * side + 1);
+      const int ent = gent(k), i = ent >> 7, side = (ent >> 6) & 1, n0 = (ent >> 3) & 7, n1 = ent & 7;
       fi[2 * n0] += iforce(i, 4 * side), fi[2 * n0 + 1] += iforce(i, 4 * side + 1);
       fi[2 * n1] += iforce(i, 4 * side + 2), fi[2 * n1 + 1] += iforce(i, 4 * side + 3);
     }
@@ -276,14 +311,102 @@ struct Integrator {
     acc(e, kDampPowPrev) = pd;
     acc(e, kReact) = drive(e) > 0 ? react : 0.0;
   }
+
+  /// The free part of FinalTag for a tile of up to kTile free elements of one type
+  /// (work items w >= n_tiles are the driven elements, per element). Every per-element sum is
+  /// the one of FinalTag in the same order, so the bits are the same; the matrix entry is loaded
+  /// once per tile and the innermost loops run over the tile's elements (independent
+  /// accumulators: SIMD lanes and no add-latency chain). Padded lanes compute on zeros, never stored.
+  KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag, int w) const {
+    if (w >= n_tiles) {
+      (*this)(FinalTag{}, driven(w - n_tiles));
+      return;
+    }
+    const int k0 = tile_start(w), nb = tile_start(w + 1) - k0, t = type(tile_elem(k0));
+    double x[kMaxDof][kTile], wv[kMaxDof][kTile], f[kMaxDof][kTile], r[kMaxDof][kTile], vo[kMaxDof][kTile],
+        ao[kMaxDof][kTile];
+    double work[kTile], pd[kTile];
+    for (int b = 0; b < kTile; ++b) {
+      work[b] = 0, pd[b] = 0;
+      if (b >= nb) {
+        for (int j = 0; j < nd; ++j) x[j][b] = wv[j][b] = f[j][b] = vo[j][b] = ao[j][b] = 0;
+        continue;
+      }
+      const int e = tile_elem(k0 + b);
+      double fi[kMaxDof];
+      gather(e, fi);
+      double wk = 0;
+      for (int j = 0; j < nd; ++j) {
+        const double fj = fi[j] + theta(t, j) + (has_fp ? fp(e, j) : 0.0);
+        x[j][b] = u(e, j);
+        vo[j][b] = v(e, j), ao[j][b] = a(e, j);
+        wv[j][b] = vo[j][b] + 0.5 * h * ao[j][b];
+        wk += (fj - fi[j]) * wv[j][b];
+        f[j][b] = fj;
+      }
+      work[b] = wk;
+    }
+    for (int i = 0; i < nd; ++i) {
+      double ku[kTile], kw[kTile];
+      for (int b = 0; b < kTile; ++b) ku[b] = 0, kw[b] = 0;
+      for (int j = 0; j < nd; ++j) {
+        const double k = K(t, i, j);
+        for (int b = 0; b < kTile; ++b) ku[b] += k * x[j][b];
+      }
+      if (beta != 0.0)  // else beta * kw = 0 adds nothing
+        for (int j = 0; j < nd; ++j) {
+          const double k = K(t, i, j);
+          for (int b = 0; b < kTile; ++b) kw[b] += k * wv[j][b];
+        }
+      const double am = alpha * mass(t, i);
+      for (int b = 0; b < kTile; ++b) r[i][b] = f[i][b] - ku[b] - am * wv[i][b] - beta * kw[b];
+    }
+    double vb[kMaxDof][kTile];
+    for (int i = 0; i < nd; ++i) {
+      double an[kTile];
+      if (ainv_diagonal) {  // the off-diagonal terms are exact zeros: the sum is this one product
+        const double c = Ainv(t, i, i);
+        for (int b = 0; b < kTile; ++b) an[b] = c * r[i][b];
+      } else {
+        for (int b = 0; b < kTile; ++b) an[b] = 0;
+        for (int j = 0; j < nd; ++j) {
+          const double c = Ainv(t, i, j);
+          for (int b = 0; b < kTile; ++b) an[b] += c * r[j][b];
+        }
+      }
+      const double am = alpha * mass(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        const double vn = vo[i][b] + 0.5 * h * (ao[i][b] + an[b]);
+        vb[i][b] = 0.5 * (vo[i][b] + vn);
+        pd[b] += am * vb[i][b] * vb[i][b];
+        vo[i][b] = vn, ao[i][b] = an[b];
+      }
+    }
+    if (beta != 0.0)
+      for (int i = 0; i < nd; ++i) {
+        double kv[kTile];
+        for (int b = 0; b < kTile; ++b) kv[b] = 0;
+        for (int j = 0; j < nd; ++j) {
+          const double k = K(t, i, j);
+          for (int b = 0; b < kTile; ++b) kv[b] += k * vb[j][b];
+        }
+        for (int b = 0; b < kTile; ++b) pd[b] += beta * vb[i][b] * kv[b];
+      }
+    for (int b = 0; b < nb; ++b) {
+      const int e = tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) v(e, j) = vo[j][b], a(e, j) = ao[j][b];
+      acc(e, kWork) += h * work[b];
+      acc(e, kDamp) += h * pd[b];
+    }
+  }
 };
 
 /// \brief 1/2 u^T K u of element e.
 template <class MemorySpace>
 struct StrainEnergy {
   Kokkos::View<const int*, MemorySpace> type;
-  Kokkos::View<const double***, Kokkos::LayoutLeft, MemorySpace> K;
-  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> u;
+  Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> K;
+  Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace> u;
   int nd;
   KOKKOS_INLINE_FUNCTION double operator()(int e) const {
     const int t = type(e);
@@ -303,7 +426,7 @@ template <class MemorySpace>
 struct KineticEnergy {
   Kokkos::View<const int*, MemorySpace> type;
   Kokkos::View<const std::int8_t*, MemorySpace> drive;
-  Kokkos::View<const double**, Kokkos::LayoutLeft, MemorySpace> mass, u, v, a;
+  Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace> mass, u, v, a;
   int nd;
   bool free_only, poison;
   KOKKOS_INLINE_FUNCTION double operator()(int e) const {
@@ -334,6 +457,18 @@ void impose_drive(const ExecutionSpace& space, const Integrator<MemOf<ExecutionS
                        });
 }
 
+/// \brief final_integrate, per element or over tiles (it.tiled; same bits).
+template <class ExecutionSpace>
+void final_integrate(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
+  Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
+  if (it.tiled)
+    Kokkos::parallel_for("nacre::dyn::final_integrate_tiled",
+                         Kokkos::RangePolicy<ExecutionSpace, FinalTileTag>(space, 0, it.n_tiles + it.n_driven), it);
+  else
+    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag>(space, 0, n_elem),
+                         it);
+}
+
 /// \brief One step's three phases: initial_integrate, interface force, final_integrate.
 template <class ExecutionSpace>
 void verlet_step(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it,
@@ -348,11 +483,7 @@ void verlet_step(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSp
     Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
                          op);
   }
-  {
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
-    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag>(space, 0, n_elem),
-                         it);
-  }
+  final_integrate(space, it, n_elem);
 }
 
 /// \brief Interface forces only (into op.out), e.g. for finite-difference tests.
@@ -408,6 +539,29 @@ int count_ruptured(const ExecutionSpace& space, const InterfaceOp<MemOf<Executio
       },
       c);
   return c;
+}
+
+/// \brief Largest penetration of interfaces [0, n) relative to their law's x1, max over the
+/// quadrature points of -dn / x1 (0 when nothing penetrates): the interpenetration penalty
+/// g(dn) = k dn^6 / (16 x1^4) stiffens the joint to k (1 + 1.875 (dn / x1)^4), which lowers the
+/// explicit interface part's stable step like 1 / sqrt of that (docs/methods.md).
+template <class ExecutionSpace>
+double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
+  double r = 0;
+  Kokkos::parallel_reduce(
+      "nacre::dyn::max_penetration", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+      KOKKOS_LAMBDA(const int i, double& acc) {
+        double q[8];
+        op.load(i, q);
+        const double x1 = op.laws[op.ikind(op.ishape(i))].x1;
+        for (int p = 0; p < op.quad.n; ++p) {
+          double dn, dt, xa, xb;
+          op.jump(i, q, op.quad.s[p], dn, dt, xa, xb);
+          acc = Kokkos::max(acc, -dn / x1);
+        }
+      },
+      Kokkos::Max<double>(r));
+  return r;
 }
 
 /// \brief Damage and state of interfaces [0, n).

@@ -8,12 +8,14 @@
 /// acts on two nodes of an edge of each side. UE and BE differ only in what the builder puts in
 /// the tables (UE adds the stiff internal joints on the spokes as interfaces of kind 2).
 ///
-/// Layout: per-element arrays are View<double**, LayoutLeft> [element][dof], element index
-/// fastest, so consecutive GPU threads (one element each) read consecutive addresses for every
-/// dof (coalesced); on a CPU a thread streams contiguous runs of each dof column. Element types
-/// are [type][row][col], LayoutLeft too: with sharing, threads of a warp read one or a few types
-/// (broadcast from cache); without sharing (one type per element), type index = element index
-/// and the same layout coalesces.
+/// Layout (ElemLayout below): per-element arrays are View<double**, L> [element][dof], per-interface
+/// ones [interface][k], element types [type][row][col], with L the execution space's array_layout
+/// (Kokkos' convention): on a GPU LayoutLeft, element index fastest, so consecutive threads (one
+/// element each) read consecutive addresses for every dof (coalesced); on a CPU LayoutRight, each
+/// element's dofs contiguous, so a thread streams 3 arrays instead of 3 nd columns (the hardware
+/// prefetchers follow 3 streams, not 30) and an interface gathers one cache line per side instead
+/// of one per dof (measured: perf/results/dyn_step_quiet). With sharing, the type tables are a few
+/// KB read from cache on either backend.
 #include <nacre/cohesive/law_table.hpp>
 #include <nacre/cohesive/quadrature.hpp>
 #include <nacre/core/types.hpp>
@@ -31,13 +33,27 @@ namespace nacre::dyn {
 /// Largest element: a bolted 7-gon (centre + 7 corners). Clipped rectangles have at most 6 sides.
 inline constexpr int kMaxNodes = 8;
 inline constexpr int kMaxDof = 2 * kMaxNodes;
+/// Elements per work item of the tiled element apply (ElementApply::tiled) and of BIE's shared
+/// J^-1 product: 8 doubles = 4 SSE2 / 2 AVX2 / 1 AVX-512 register per accumulator row.
+inline constexpr int kTile = 8;
+
+/// Gather-list entry: interface i (< kMaxGatherIface), side (0 a, 1 b), the side's local nodes n0, n1 (< 8).
+inline constexpr int kMaxGatherIface = 1 << 24;
+KOKKOS_INLINE_FUNCTION constexpr int gather_entry(int i, int side, int n0, int n1) {
+  return (i << 7) | (side << 6) | (n0 << 3) | n1;
+}
+
+/// Layout of the per-element, per-interface and per-type arrays (see above): LayoutLeft on a GPU,
+/// LayoutRight on a CPU. Checkpoints store the state in LayoutLeft order whatever this is.
+template <class MemorySpace>
+using ElemLayout = typename MemorySpace::execution_space::array_layout;
 
 template <class MemorySpace = MemSpace>
 struct Model {
   static_assert(Kokkos::is_memory_space_v<MemorySpace>, "dyn::Model needs a Kokkos memory space");
   using memory_space = MemorySpace;
-  using TypeMat = Kokkos::View<double***, Kokkos::LayoutLeft, MemorySpace>;  ///< [type][row][col]
-  using Dof = Kokkos::View<double**, Kokkos::LayoutLeft, MemorySpace>;       ///< [element|type][dof]
+  using TypeMat = Kokkos::View<double***, ElemLayout<MemorySpace>, MemorySpace>;  ///< [type][row][col]
+  using Dof = Kokkos::View<double**, ElemLayout<MemorySpace>, MemorySpace>;       ///< [element|type][dof]
 
   int n_elem = 0, nd = 0, n_types = 0, n_iface = 0, n_mortar = 0;
 
@@ -51,19 +67,35 @@ struct Model {
 
   // ---- elements
   Kokkos::View<int*, MemorySpace> type;
-  Field<double, MemorySpace> cx, cy;   ///< reference centroid of the element's brick
+  /// Reference centroid of a driven element's brick (only the prescribed motion needs it), at the
+  /// element's index in `driven`: driven_index(e) (-1 for a free element).
+  Kokkos::View<int*, MemorySpace> driven_index;
+  Field<double, MemorySpace> cx, cy;
   Kokkos::View<std::int8_t*, MemorySpace> drive;  ///< -1 bottom, 0 free, +1 top (whole element prescribed)
-  Dof fp;          ///< prescribed nodal forces (extent 0 when none)
+  Dof fp;          ///< [element][dof] prescribed nodal forces (extent 0 when none)
   /// Gather list (CSR): the interface sides acting on element e are gent[goff[e] .. goff[e+1]),
-  /// each entry 2 * interface + side, in a fixed order (no atomics, same bits on any thread count).
+  /// in increasing interface order (no atomics, same bits on any thread count); each entry packs
+  /// (interface, side, the side's two local nodes) (gather_entry), so the gather reads the
+  /// interface's force row and nothing else of it.
   Kokkos::View<int*, MemorySpace> goff, gent;
+  /// Tiled element apply: work item w < n_tiles covers the free elements
+  /// tile_elem[tile_start(w) .. tile_start(w + 1)): at most kTile, one type, increasing;
+  /// work item n_tiles + k the driven element driven(k) (per element: prescribed motion).
+  Kokkos::View<int*, MemorySpace> tile_start, tile_elem, driven;
+  int n_tiles = 0, n_driven = 0;
+  bool ainv_diagonal = false;  ///< every type's (M + h/2 C)^-1 is diagonal (beta_d = 0): skip its zeros
 
   // ---- interfaces (first the geometry's bed/head interfaces in its order, then internal joints)
-  Kokkos::View<int* [2], Kokkos::LayoutLeft, MemorySpace> ielem;          ///< element of side a, b
-  Kokkos::View<std::int8_t* [4], Kokkos::LayoutLeft, MemorySpace> inode;  ///< local nodes a0 a1 b0 b1
-  Kokkos::View<double* [4], Kokkos::LayoutLeft, MemorySpace> ixi;         ///< edge parameter of the segment ends a0 a1 b0 b1
-  Field<double, MemorySpace> inx, iny, ilen;
-  Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< geometry::JointKind (bed, head, internal)
+  Kokkos::View<int* [2], ElemLayout<MemorySpace>, MemorySpace> ielem;          ///< element of side a, b
+  /// Interface shapes, shared as element types are ("model no more than the scene needs"): the
+  /// geometry of interface i is shape ishape(i); interfaces with bitwise-equal geometry (local
+  /// nodes, normal, length, edge parameters, kind) share one, so a running bond needs a handful.
+  Kokkos::View<int*, MemorySpace> ishape;
+  int n_shapes = 0;
+  Kokkos::View<std::int8_t* [4], ElemLayout<MemorySpace>, MemorySpace> inode;  ///< [shape] local nodes a0 a1 b0 b1
+  Kokkos::View<double* [4], ElemLayout<MemorySpace>, MemorySpace> ixi;  ///< [shape] edge parameter of the segment ends a0 a1 b0 b1
+  Field<double, MemorySpace> inx, iny, ilen;                              ///< [shape] unit normal a -> b, length
+  Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< [shape] geometry::JointKind (bed, head, internal)
   cohesive::LawTable laws;  ///< one law per joint kind
   cohesive::Quadrature quad;
 

@@ -1,0 +1,143 @@
+// Variants that must not change a result: the tiled element apply (ElementApply::tiled) against
+// the per-element one, BIE's fused tiled step against the unfused shared_gemm path (same bits),
+// and the interface kernel's closed form for elastic, open segments against the Gauss rule (same
+// integral to rounding).
+#include "common.hpp"
+
+#include <nacre/dyn/kernels.hpp>
+
+#include <catch2/catch_test_macros.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace dyntest;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Mem = Exec::memory_space;
+
+namespace {
+
+/// A notched wall that cracks within a few hundred steps (weak mortar), loaded in bending or by a
+/// top force with a thermal eigenstrain, optionally with Rayleigh damping.
+dyn::Params cracking(dyn::Method m, bool damped, bool force_loaded) {
+  auto p = params(100, m);
+  p.rate = 2000.0, p.ramp_time = 1e-6, p.ramp = dyn::Ramp::smooth;
+  p.tension = 0.2, p.bending = 1;
+  if (damped) p.alpha_d = 1e5, p.beta_d = 1e-9;
+  if (force_loaded) p.force_top = 5.0, p.thermal_strain = 1e-4;
+  return p;
+}
+
+const deck::Mortar kWeak{{7000, 0.0005, 0.001}, {7000, 0.0005, 0.001}};
+
+dyn::StateArrays run(dyn::Params p, const Setup& st, dyn::ElementApply apply, long steps, int& ruptured) {
+  p.element_apply = apply;
+  dyn::Simulation sim(p, st.s, st.f, kWeak);
+  const bool ok = sim.advance(Exec{}, steps);
+  INFO(sim.why());
+  REQUIRE(ok);
+  ruptured = sim.ruptured();
+  auto s = sim.save_state();
+  const auto e = sim.energies();
+  s["energies"] = {e.strain, e.kinetic, e.cohesive, e.damping_dissipated, e.external_work, sim.reaction()};
+  return s;
+}
+
+double estimate(dyn::Params p, const Setup& st) {
+  p.dt = 1.0;
+  dyn::HostMap map;
+  return dyn::build_model(p, st.s, st.f, kWeak, map).step_estimate;
+}
+
+}  // namespace
+
+TEST_CASE("dyn: the tiled element apply gives the same bits as the per-element one", "[dyn][variants]") {
+  const auto st = make(wall(6, 6, 2.5));
+  for (auto method : {dyn::Method::be, dyn::Method::ue})
+    for (bool damped : {false, true})
+      for (bool force_loaded : {false, true}) {
+        auto p = cracking(method, damped, force_loaded);
+        p.rate = 5e4;  // an explicit step is small: open fast so the wall cracks within the run
+        p.dt = 0.5 * estimate(p, st);
+        int r0 = 0, r1 = 0;
+        const auto a = run(p, st, dyn::ElementApply::per_element, 1500, r0);
+        const auto b = run(p, st, dyn::ElementApply::tiled, 1500, r1);
+        INFO("method " << int(method) << " damped " << damped << " force " << force_loaded << " ruptured " << r0);
+        if (!force_loaded && !damped) CHECK(r0 > 0);  // the softening and rupture branches are exercised
+        CHECK(r0 == r1);
+        for (const auto& [k, v] : a) {
+          INFO("array " << k);
+          CHECK(v == b.at(k));
+        }
+      }
+}
+
+TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_gemm", "[dyn][bie][variants]") {
+  const auto st = make(wall(6, 6, 2.5));
+  for (bool share : {true, false})
+    for (bool damped : {false, true}) {
+      auto p = cracking(dyn::Method::bie, damped, false);
+      p.share_element_matrices = share;
+      p.bie_solve = dyn::BieSolve::shared_gemm;
+      p.dt = 4 * estimate(p, st);
+      int r0 = 0, r1 = 0;
+      const auto a = run(p, st, dyn::ElementApply::per_element, 400, r0);  // slots, R block, 4 kernels
+      const auto b = run(p, st, dyn::ElementApply::tiled, 400, r1);        // element tiles, fused
+      INFO("share " << share << " damped " << damped << " ruptured " << r0);
+      CHECK(r0 > 0);
+      CHECK(r0 == r1);
+      for (const auto& [k, v] : a) {
+        INFO("array " << k);
+        CHECK(v == b.at(k));
+      }
+    }
+  // the fused path keeps no residual block: fewer bytes
+  auto p = cracking(dyn::Method::bie, false, false);
+  p.dt = 4 * estimate(p, st);
+  p.element_apply = dyn::ElementApply::per_element;
+  const auto unfused = dyn::Simulation(p, st.s, st.f, kWeak).bytes();
+  p.element_apply = dyn::ElementApply::tiled;
+  const auto fused = dyn::Simulation(p, st.s, st.f, kWeak).bytes();
+  CHECK(fused < unfused);
+}
+
+TEST_CASE("dyn interfaces: the closed form for elastic open segments equals the Gauss rule to rounding",
+          "[dyn][interface][variants]") {
+  const auto st = make(wall(5, 6, 2.0));  // whole, clipped and notch-split bricks
+  for (auto method : {dyn::Method::be, dyn::Method::ue}) {
+    auto p = params(50, method);
+    p.dt = 1e-9;
+    dyn::HostMap map;
+    const auto m = dyn::build_model(p, st.s, st.f, mortar(), map);  // x1 ~ 0.01 mm
+    dyn::DofView<Mem> u("u", m.n_elem, m.nd);
+    dyn::IforceView<Mem> f("f", std::max(m.n_iface, 1));
+    auto h = Kokkos::create_mirror_view(u);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> U(-2e-3, 2e-3);  // jumps well inside x1 (UE joints: x1 = 1e6)
+    for (int e = 0; e < m.n_elem; ++e)
+      for (int d = 0; d < m.nd; ++d) h(e, d) = U(rng);
+    Kokkos::deep_copy(u, h);
+    const dyn::InterfaceOp<Mem> op(m, u, f);
+    int fast = 0, slow = 0;
+    double worst = 0;
+    Kokkos::parallel_reduce(
+        "nacre::test::closed_form", Kokkos::RangePolicy<Exec>(0, m.n_iface),
+        KOKKOS_LAMBDA(const int i, int& nf, int& ns, double& w) {
+          double a[8], b[8];
+          if (!op.elastic_force(i, a)) {
+            ++ns;
+            return;
+          }
+          ++nf;
+          op.integrate<false, true>(i, b);
+          double scale = 0, err = 0;
+          for (int k = 0; k < 8; ++k) scale = Kokkos::max(scale, Kokkos::abs(b[k])), err = Kokkos::max(err, Kokkos::abs(a[k] - b[k]));
+          w = Kokkos::max(w, scale > 0 ? err / scale : err);
+        },
+        fast, slow, Kokkos::Max<double>(worst));
+    INFO("method " << int(method) << " closed form on " << fast << " interfaces, Gauss on " << slow << ", worst " << worst);
+    CHECK(fast > 0);
+    CHECK(slow > 0);  // closing segments (dn < 0 somewhere) take the Gauss rule
+    CHECK(worst < 1e-13);
+  }
+}
