@@ -141,3 +141,24 @@ TEST_CASE("the app exits with 2 and creates no output for a bad deck", "[deck][a
   CHECK_FALSE(std::filesystem::exists(dir / "out"));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[deck]") {
+  const Deck d = parse_deck_string(base, "deck.toml");
+  CHECK(d.solver.convergence == "residual");
+  CHECK(d.solver.residual_tolerance == 1e-6);
+  CHECK(d.solver.polish == "fire");
+  const Deck w = parse_deck_string(base + "[solver]\nconvergence = \"window\"\npolish = \"newton\"\n"
+                                          "residual_tolerance = 1e-8\npolish_iterations = 10\n", "deck.toml");
+  CHECK(w.solver.convergence == "window");
+  CHECK(w.solver.polish == "newton");
+  CHECK(w.solver.residual_tolerance == 1e-8);
+  CHECK(w.solver.polish_iterations == 10);
+  CHECK_THAT(error_of(base + "[solver]\nconvergence = \"energy\"\n"),
+             StartsWith("deck.toml:16: solver.convergence:"));
+  CHECK_THAT(error_of(base + "[solver]\nconvergence = \"energy\"\n"), ContainsSubstring("\"residual\" or \"window\""));
+  CHECK_THAT(error_of(base + "[solver]\nresidual_tolerance = 0\n"),
+             StartsWith("deck.toml:16: solver.residual_tolerance: value 0 out of range"));
+  CHECK_THAT(error_of(base + "[solver]\nresidual_tolerance = 2\n"), ContainsSubstring("a tolerance in (0, 1)"));
+  CHECK_THAT(error_of(base + "[solver]\npolish = \"lbfgs\"\n"), ContainsSubstring("solver.polish:"));
+  CHECK_THAT(error_of(base + "[solver]\npolish_iterations = 0\n"), ContainsSubstring("solver.polish_iterations:"));
+}

@@ -303,6 +303,9 @@ TEST_CASE("adaptive displacement backtracks a step that takes too long and still
   // c_u = 4 x 20 = 80 cycles < window + repetitions: the first attempt of every step above the
   // minimum increment must fail and be retried smaller, down to the minimum, which then runs on
   d.solver.window_mul = 2, d.solver.window_upper_mul = 4;
+  // the paper's criterion: with the residual one, the polish would converge every first attempt
+  d.solver.convergence = "window";
+  d.solver.polish = "none";
   auto st = make(d);
   mc::Solver solver(d, st.s, st.f);
   std::vector<mc::StepRecord> rows;

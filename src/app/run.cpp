@@ -248,7 +248,8 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     else if (log)
       *log << "  step " << r.step << ": D = " << r.displacement << ", E = " << r.energy << ", F = " << r.reaction
            << ", " << r.cycles << " cycles" << (r.converged ? "" : " (not converged)") << ", acceptance "
-           << r.acceptance << ", ruptured " << r.ruptured << "\n";
+           << r.acceptance << ", ruptured " << r.ruptured << ", residual " << r.residual << " (" << r.polish_iterations
+           << " polish iterations)\n";
   });
   if (progress) std::fprintf(stderr, "\n");
   if (solver.interrupted()) {
@@ -261,11 +262,24 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
               << d.path << " -o " << writer.directory().string() << " --restart " << checkpoint_path.string() << "\n";
     return 128 + sig;
   }
+  if (solver.failed()) {
+    // "not converged after N cycles": the rows of the completed steps stay in steps.csv, the
+    // checkpoint holds the last completed step; no summary (the run did not finish).
+    const auto& f = solver.failed_step();
+    io::write_checkpoint(checkpoint_path, last);
+    std::cerr << "nacre: step " << f.step << " (D = " << f.displacement << ") not converged after " << f.cycles
+              << " cycles: residual " << f.residual << " > tolerance " << d.solver.residual_tolerance << " ("
+              << d.where("solver.residual_tolerance") << ")" << (f.reverts ? " after " + std::to_string(f.reverts) +
+              " smaller increments" : std::string()) << "; steps.csv holds the " << last.integer("step")
+              << " completed steps and " << checkpoint_path.string() << " the last of them\n";
+    return 4;
+  }
   writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed()));
   if (log) {
     const auto& pt = solver.times();
     *log << "nacre: done in " << elapsed() << " s; " << solver.global_cycle() << " cycles; time split: sweep "
-         << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng << " s\n";
+         << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng << " s, polish " << pt.polish
+         << " s; largest step residual " << solver.max_step_residual() << "\n";
     *log << "nacre: results in " << writer.directory().string() << "/ (steps.csv, nacre.xdmf, summary.json)\n";
   }
   if (const int sig = pending_signal()) {
@@ -316,7 +330,8 @@ int main(int argc, char* argv[]) {
                "(continue a finished run further)");
   cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
              "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
-             "checkpoint, 3 dynamic run stopped unstable, 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
+             "checkpoint, 3 dynamic run stopped unstable, 4 a load step not converged (residual above the tolerance "
+             "after max_cycles; completed steps and their checkpoint kept), 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
   try {
     cli.parse(static_cast<int>(app_args.size()), app_args.data());
     check_kokkos_flags(kokkos_args);

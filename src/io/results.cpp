@@ -113,8 +113,10 @@ RunWriter::RunWriter(Options o, const geometry::Specimen& s, const geometry::Int
       csv_ += line + "\n";
       last_step_ = *st;
     }
-    write_file_atomic(dir / "steps.csv", csv_);
   }
+  // steps.csv exists from the start (header only until a step completes), so a run that stops
+  // in its first step still leaves its table
+  write_file_atomic(dir / "steps.csv", csv_);
   if (o_.hdf5) write_mesh();
 }
 

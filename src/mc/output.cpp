@@ -19,14 +19,15 @@ std::string num(double v) {
 
 std::string csv_header() {
   return "step,displacement,energy,reaction,cycles,acceptance,ruptured,converged,step_size,"
-         "rot_step,increment,reverts,seconds\n";
+         "rot_step,increment,reverts,seconds,residual,polish_iterations\n";
 }
 
 std::string csv_row(const StepRecord& r) {
   return std::to_string(r.step) + "," + num(r.displacement) + "," + num(r.energy) + "," + num(r.reaction) + "," +
          std::to_string(r.cycles) + "," + num(r.acceptance) + "," + std::to_string(r.ruptured) + "," +
          (r.converged ? "1" : "0") + "," + num(r.step_size) + "," + num(r.rot_step) + "," + num(r.increment) + "," +
-         std::to_string(r.reverts) + "," + num(r.seconds) + "\n";
+         std::to_string(r.reverts) + "," + num(r.seconds) + "," + num(r.residual) + "," +
+         std::to_string(r.polish_iterations) + "\n";
 }
 
 io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
@@ -91,7 +92,12 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
     << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << steps << ",\n  \"cycles\": "
     << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds) << ",\n  \"phase_seconds\": {\"rng\": "
     << num(pt.rng) << ", \"sweep\": " << num(pt.sweep) << ", \"energy\": " << num(pt.energy)
-    << "},\n  \"presimulation_seconds_per_cycle\": {";
+    << ", \"polish\": " << num(pt.polish) << "},\n  \"convergence\": \"" << d.solver.convergence
+    << "\",\n  \"residual_tolerance\": " << num(d.solver.residual_tolerance) << ",\n  \"polish\": \""
+    << d.solver.polish << "\",\n  \"residual_scale\": {\"force\": " << num(solver.residual_scale().force)
+    << ", \"moment\": " << num(solver.residual_scale().moment) << "},\n  \"max_step_residual\": "
+    << num(solver.max_step_residual()) << ",\n  \"polish_iterations\": " << solver.polish_iterations_total()
+    << ",\n  \"presimulation_seconds_per_cycle\": {";
   bool first = true;
   for (const auto& [name, sec] : solver.presim()) {
     j << (first ? "" : ", ") << "\"" << name << "\": " << num(sec);
@@ -120,6 +126,8 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.integers["window_trials"] = c.window_trials;
   n.reals["increment"] = c.run.increment;
   n.reals["previous_increment"] = c.run.previous_increment;
+  n.reals["max_step_residual"] = c.run.max_residual;
+  n.integers["polish_iterations"] = c.run.polish_iterations;
   n.reals["displacement"] = c.displacement;
   n.reals["step_size"] = c.step_size;
   n.reals["rot_step"] = c.rot_step;
@@ -165,6 +173,8 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   };
   c.run.increment = real("increment", false);
   c.run.previous_increment = real("previous_increment", false);
+  c.run.max_residual = real("max_step_residual", false);
+  c.run.polish_iterations = count("polish_iterations", big);
   c.displacement = real("displacement", false);
   c.step_size = real("step_size", true);
   c.rot_step = real("rot_step", true);

@@ -74,6 +74,20 @@ void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, c
   source_ = rng::make_uniform_source(deck_.solver.rng, deck_.seed);
   m_ = build_model(space_, s, f, adj, c, deck_.mortar, deck_.solver.quadrature_points);
   allocate_work();
+  polisher_ = Polisher(space_, m_);
+  // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
+  // a brick's length is the force an intact bed joint carries at its limit; a moment is that
+  // force times the brick length.
+  const auto& bed = deck_.mortar.bed;
+  const auto& head = deck_.mortar.head;
+  const double bw = deck_.geometry.brick_width, bh = deck_.geometry.brick_height;
+  scale_.force = std::max(bed.k * bed.x1, head.k * head.x1) * bw;
+  scale_.moment = scale_.force * bw;
+  polish_options_.method = deck_.solver.polish;
+  polish_options_.tolerance = deck_.solver.residual_tolerance;
+  polish_options_.max_iterations = deck_.solver.polish_iterations;
+  polish_options_.rotation_length = bw / std::sqrt(12.0);
+  polish_options_.stiffness = 2.0 * bed.k * bw + 2.0 * head.k * bh;
   D_ = 0;
   set_load(0);
   E_ = energy();
@@ -168,6 +182,24 @@ int Solver::ruptured() {
   return r;
 }
 
+double Solver::residual() {
+  Kokkos::Timer timer;
+  const double r = polisher_.residual(space_, m_, scale_);
+  space_.fence("nacre::mc::residual");
+  times_.polish += timer.seconds();
+  return r;
+}
+
+PolishResult Solver::polish(const std::string& method, double tolerance) {
+  Kokkos::Timer timer;
+  PolishOptions o = polish_options_;
+  if (!method.empty()) o.method = method;
+  if (tolerance > 0) o.tolerance = tolerance;
+  const PolishResult r = polisher_.run(space_, m_, scale_, o);
+  times_.polish += timer.seconds();
+  return r;
+}
+
 long Solver::cycle() {
   Kokkos::Timer timer;
   {
@@ -214,21 +246,21 @@ long Solver::cycle() {
   return accepted;
 }
 
-long Solver::relax(bool& converged) {
+long Solver::mc_phase(long budget, bool& window_converged) {
+  // Monte Carlo until the window test passes (or the budget / the backtracking limit is spent)
   const auto& S = deck_.solver;
-  const long limit = S.max_cycles;
   monitor_.reset();
   E_ = energy();
-  converged = false;
+  window_converged = false;
   long c = 0;
-  while (c < limit) {
+  while (c < budget) {
     cycle();
     ++c;
     // Exact resynchronisation: E_ accumulates accepted energy changes (cheap, exact up to
     // rounding); once per window it is replaced by a full reduction so rounding cannot build up.
     if (c % S.window_size == 0) E_ = energy();
     if (monitor_.push(E_)) {
-      converged = true;
+      window_converged = true;
       break;
     }
     if (on_progress && c % 1000 == 0) on_progress(c, E_);
@@ -237,6 +269,37 @@ long Solver::relax(bool& converged) {
       interrupted_ = true;
       break;
     }
+  }
+  return c;
+}
+
+long Solver::relax(bool& converged) {
+  // convergence = "window": one Monte Carlo phase ended by the window test, then the polish (if
+  // any); the residual is reported. convergence = "residual": Monte Carlo phase + polish until
+  // the residual is below the tolerance; a polish that stalls (e.g. in a metastable state) gets
+  // another Monte Carlo phase, until max_cycles (or the backtracking limit) is spent.
+  const auto& S = deck_.solver;
+  const bool by_residual = S.convergence == "residual";
+  const long limit = cycle_limit_ > 0 ? std::min(cycle_limit_, S.max_cycles) : S.max_cycles;
+  converged = false;
+  step_polish_ = 0;
+  long c = 0;
+  for (;;) {
+    bool window = false;
+    c += mc_phase(limit - c, window);
+    if (interrupted_) break;
+    const PolishResult p = polish();
+    step_polish_ += p.iterations;
+    residual_ = p.residual;
+    if (!by_residual) {
+      converged = window;
+      break;
+    }
+    if (p.converged) {
+      converged = true;
+      break;
+    }
+    if (c >= limit) break;
   }
   E_ = energy();
   return c;
@@ -277,6 +340,8 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     bool converged = false;
     const long acc0 = accepted_total_;
     const long trials0 = trials_total_;
+    const int snap_limit = L.max_ruptures_per_step;
+    const int ruptured0 = snap_limit > 0 ? ruptured() : 0;
     for (;;) {
       if (L.predictor && have_prev) predict(inc_now / inc_prev);
       set_load(D0 + inc_now);
@@ -294,7 +359,37 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
                         << " cycles, retrying with increment " << inc_now << "\n";
         continue;
       }
+      if (converged && snap_limit > 0 && inc_now > L.min_step * (1 + 1e-12)) {
+        // snap-back: many interfaces broke in one increment, so the path between the two states
+        // was jumped over; undo and take half the increment
+        const int broke = ruptured() - ruptured0;
+        if (broke > snap_limit) {
+          Kokkos::deep_copy(space_, m_.pose, save_pose_);
+          inc_now = std::max(L.min_step, 0.5 * inc_now);
+          ++reverts;
+          if (log_) *log_ << "  step " << step + 1 << ": " << broke << " interfaces ruptured in one increment (limit "
+                          << snap_limit << "), retrying with increment " << inc_now << "\n";
+          continue;
+        }
+      }
       break;
+    }
+    if (!converged && S.convergence == "residual") {
+      // "not converged after N cycles": the step is not completed; the caller reports it and
+      // keeps the last completed step's checkpoint and rows.
+      failed_ = true;
+      failed_step_ = StepRecord{};
+      failed_step_.step = step + 1;
+      failed_step_.displacement = D_;
+      failed_step_.energy = E_;
+      failed_step_.cycles = cycles;
+      failed_step_.converged = false;
+      failed_step_.increment = inc_now;
+      failed_step_.reverts = reverts;
+      failed_step_.residual = residual_;
+      failed_step_.polish_iterations = step_polish_;
+      failed_step_.seconds = timer.seconds();
+      return;
     }
     Kokkos::deep_copy(space_, prev_pose_, save_pose_);
     have_prev = true;
@@ -322,6 +417,10 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     }
     r.increment = inc_now;
     r.reverts = reverts;
+    r.residual = residual_;
+    r.polish_iterations = step_polish_;
+    run_.max_residual = std::max(run_.max_residual, residual_);
+    run_.polish_iterations += step_polish_;
     r.seconds = timer.seconds();
     if (on_step) on_step(r);
   }

@@ -24,13 +24,18 @@ def check(cond, msg):
 
 rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
 check(len(rows) >= 3, "steps.csv has fewer than 3 rows")
-for col in ["step", "displacement", "energy", "reaction", "cycles", "acceptance", "ruptured", "converged"]:
+for col in ["step", "displacement", "energy", "reaction", "cycles", "acceptance", "ruptured", "converged",
+            "residual", "polish_iterations"]:
     check(col in rows[0], f"steps.csv lacks column {col}")
 check([int(r["step"]) for r in rows] == list(range(1, len(rows) + 1)), "steps are not 1..n")
 check(all(float(a["displacement"]) < float(b["displacement"]) for a, b in zip(rows, rows[1:])),
       "displacement does not increase")
 summary = json.load(open(os.path.join(out, "summary.json")))
 check(summary["steps"] == len(rows), "summary.json steps != rows")
+if summary.get("convergence") == "residual":  # converged means the residual says so
+    tol = summary["residual_tolerance"]
+    check(all(float(r["residual"]) < tol and r["converged"] == "1" for r in rows), "a step above the residual tolerance")
+    check(summary["max_step_residual"] == max(float(r["residual"]) for r in rows), "max_step_residual != max of the column")
 n = summary["bricks"]
 root = ET.parse(os.path.join(out, "nacre.xdmf")).getroot()
 fail += check_xdmf(os.path.join(out, "nacre.xdmf"))  # Xdmf3: every topology has its connectivity

@@ -25,3 +25,18 @@ sed 's/^final_displacement = .*/final_displacement = 0.03/' "$src/tests/app/tiny
 python3 -c "import h5py, sys; assert '/interfaces/connectivity' in h5py.File(sys.argv[1], 'r')" oldmesh/mesh.h5
 # every nacre.xdmf this test wrote, as ParaView's Xdmf3 reader needs it (connectivity per topology)
 python3 "$src/tests/app/check_xdmf.py" $(find . -name nacre.xdmf | sort)
+# A temperature so high that no step converges: "not converged after N cycles", exit 4, the CSV
+# (header only: no step completed) and the checkpoint of the last completed step (0) kept.
+sed -e 's/^TEMP = .*/TEMP = 1000.0/' -e 's/^colouring = .*/colouring = "natural"\nmax_cycles = 200\npolish_iterations = 10/' \
+  "$src/tests/app/tiny.toml" > hot.toml
+set +e
+"$exe" hot.toml -o hot -q 2> hot.err
+rc=$?
+set -e
+cat hot.err
+[ "$rc" -eq 4 ] || { echo "FAIL: a run that cannot converge exited $rc, expected 4"; exit 1; }
+grep -q "not converged after 200 cycles" hot.err || { echo "FAIL: no 'not converged after 200 cycles' message"; exit 1; }
+[ "$(head -1 hot/steps.csv | cut -d, -f1)" = "step" ] || { echo "FAIL: steps.csv not kept"; exit 1; }
+[ -f hot/checkpoint.h5 ] || { echo "FAIL: no checkpoint kept"; exit 1; }
+[ ! -f hot/summary.json ] || { echo "FAIL: an unfinished run wrote summary.json"; exit 1; }
+echo "hot deck: exit 4, steps.csv and checkpoint kept"

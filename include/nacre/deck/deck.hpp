@@ -51,6 +51,9 @@ struct Load {
   double max_step = 0.02;      ///< MaxLoadStepSize
   bool adaptive = false;       ///< forward control / backtracking of the increment (eq. 2.8, 2.9)
   bool predictor = false;      ///< position predictor (eq. 2.10, 2.11)
+  /// Snap-back control: a converged increment that ruptured more interfaces than this is undone
+  /// and retried at half the increment (down to min_step); 0: off.
+  int max_ruptures_per_step = 0;
 };
 
 /// \brief Monte Carlo solver, the deck's [solver] table (named MonteCarlo so that it does not clash
@@ -77,6 +80,13 @@ struct MonteCarlo {
   std::string colouring = "auto";  ///< auto | natural | largest-first | random | balanced | tiles | kokkos-d1
   std::string rng = "philox";    ///< philox | aes-ctr | mt-aes
   int presim_cycles = 20;        ///< cycles per candidate colouring in the pre-simulation
+  /// What ends a load step: "residual" (the largest generalised force on a free brick, relative
+  /// to F_s = max(k x1) brick_width, below residual_tolerance) or "window" (the paper's
+  /// variance / trend test alone; the residual is still reported).
+  std::string convergence = "residual";
+  double residual_tolerance = 1e-6;  ///< dimensionless, see convergence
+  std::string polish = "fire";       ///< after the Monte Carlo relaxation: fire | newton | none
+  int polish_iterations = 20000;     ///< FIRE steps / Newton sweeps per polish
 };
 
 /// \brief Outputs.

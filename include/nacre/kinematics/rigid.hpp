@@ -73,6 +73,35 @@ KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const coh
   return cohesive::segment_energy(m, q, interface_gap(sg, a, b), sg.length);
 }
 
+/// \brief Gradient of one interface's energy with respect to both bricks' poses:
+/// ga = dE/d(x_a, y_a, t_a), gb = dE/d(x_b, y_b, t_b), exactly that of interface_energy.
+///
+/// Chain rule through the gap: the segment's end forces fk = dE/dgk (cohesive::integrate with
+/// TractionTag) times dgk/dpose (gk = u_b(rbk) - u_a(rak), du/dt = (-sin t rx - cos t ry,
+/// cos t rx - sin t ry)), plus the turn of the normal with the mean rotation tm. That last term
+/// needs no extra quadrature: the density depends on the gap only through |gap| and gap.n/|n|,
+/// so turning n by an angle phi is turning every gap by -phi, and
+/// dE/dphi = sum_k (fk_x gk_y - fk_y gk_x) (zero for the f(|gap|) part, exactly). The normal
+/// n0 + tm n0_perp is n0 turned by phi = atan(tm), dphi/dtm = 1 / (1 + tm^2), and each brick
+/// owns half of tm.
+KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const cohesive::Quadrature& q,
+                                               const Segment& sg, const Frame& a, const Frame& b, double ga[3],
+                                               double gb[3]) {
+  const cohesive::Gap g = interface_gap(sg, a, b);
+  const cohesive::EndForces f = cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length);
+  const double fx = f.f0x + f.f1x, fy = f.f0y + f.f1y;
+  // d u(r) / dt = (-s rx - c ry, c rx - s ry), c = cos t = 1 + c1
+  const double ca = 1.0 + a.c1, cb = 1.0 + b.c1;
+  const double ta = f.f0x * (-a.s * sg.ra0x - ca * sg.ra0y) + f.f0y * (ca * sg.ra0x - a.s * sg.ra0y) +
+                    f.f1x * (-a.s * sg.ra1x - ca * sg.ra1y) + f.f1y * (ca * sg.ra1x - a.s * sg.ra1y);
+  const double tb = f.f0x * (-b.s * sg.rb0x - cb * sg.rb0y) + f.f0y * (cb * sg.rb0x - b.s * sg.rb0y) +
+                    f.f1x * (-b.s * sg.rb1x - cb * sg.rb1y) + f.f1y * (cb * sg.rb1x - b.s * sg.rb1y);
+  const double tm = 0.5 * (a.t + b.t);
+  const double dphi = (f.f0x * g.g0y - f.f0y * g.g0x + f.f1x * g.g1y - f.f1y * g.g1x) / (1.0 + tm * tm);
+  ga[0] = -fx, ga[1] = -fy, ga[2] = -ta + 0.5 * dphi;
+  gb[0] = fx, gb[1] = fy, gb[2] = tb + 0.5 * dphi;
+}
+
 /// \brief Energy of one interface between rigid bricks in poses a and b.
 KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const cohesive::Quadrature& q,
                                                const Segment& sg, const Pose& a, const Pose& b) {

@@ -7,6 +7,7 @@
 #include <nacre/mc/convergence.hpp>
 #include <nacre/mc/kernels.hpp>
 #include <nacre/mc/model.hpp>
+#include <nacre/mc/polish.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
 #include <functional>
@@ -26,6 +27,8 @@ struct StepRecord {
   double step_size = 0, rot_step = 0, increment = 0;
   int reverts = 0;
   double seconds = 0;
+  double residual = 0;        ///< largest generalised force on a free brick / its scale (gradient.hpp)
+  long polish_iterations = 0; ///< FIRE steps / Newton sweeps of the step
 };
 
 /// \brief Where the loading programme stands between load steps (all a restart needs besides the
@@ -35,6 +38,8 @@ struct RunState {
   double increment = 0;           ///< next load increment (0: not started)
   double previous_increment = 0;  ///< increment of the last step (predictor ratio)
   bool have_previous = false;     ///< previous converged poses exist (predictor)
+  double max_residual = 0;        ///< largest step residual so far (summary.json)
+  long polish_iterations = 0;     ///< polish iterations so far (summary.json)
 };
 
 /// \brief Everything a checkpoint holds: restarting from it continues the run bit for bit.
@@ -50,7 +55,7 @@ struct Checkpoint {
 
 /// \brief Wall time per phase (fenced), the split of Fig. 2.12.
 struct PhaseTimes {
-  double rng = 0, sweep = 0, energy = 0, other = 0;
+  double rng = 0, sweep = 0, energy = 0, other = 0, polish = 0;
 };
 
 /// \brief The Monte Carlo solver on one execution-space instance: every kernel, allocation and
@@ -82,6 +87,15 @@ public:
   double reaction();
   /// \brief Interfaces at rupture (separated past x1 + x2 along the whole segment: cohesive::min_separation).
   int ruptured();
+  /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
+  double residual();
+  /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
+  /// `tolerance` when > 0); see polish.hpp.
+  PolishResult polish(const std::string& method = "", double tolerance = 0);
+  /// \brief The scales the residual is measured against.
+  [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
+  /// \brief Exact gradient per free brick after residual() or polish() (sweep order).
+  [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
 
   /// \brief One MC cycle (RNG batch + every colour once); returns accepted trials.
   long cycle();
@@ -104,6 +118,15 @@ public:
   /// from a checkpoint taken after the last completed step.
   std::function<bool()> should_stop;
   [[nodiscard]] bool interrupted() const { return interrupted_; }
+  /// \brief With convergence = "residual": a load step did not reach the tolerance within
+  /// max_cycles (after any backtracking); run() returned without completing it, failed_step()
+  /// describes it. The poses are mid-step; the last completed step's checkpoint is the good state.
+  [[nodiscard]] bool failed() const { return failed_; }
+  [[nodiscard]] const StepRecord& failed_step() const { return failed_step_; }
+  /// \brief Largest step residual of the run (restarts included: kept in the checkpoint).
+  [[nodiscard]] double max_step_residual() const { return run_.max_residual; }
+  /// \brief Polish iterations of the run's completed steps (restarts included).
+  [[nodiscard]] long polish_iterations_total() const { return run_.polish_iterations; }
 
   [[nodiscard]] const PhaseTimes& times() const { return times_; }
   [[nodiscard]] double step_size() const { return step_; }
@@ -127,6 +150,7 @@ private:
              const Colouring& c);
   void allocate_work();
   void predict(double ratio);
+  long mc_phase(long budget, bool& window_converged);
 
   ExecSpace space_;
   deck::Deck deck_;
@@ -149,6 +173,13 @@ private:
   RunState run_;  ///< > 0: relax() gives up after this many cycles (backtracking)
   std::uint64_t global_cycle_ = 0;
   bool interrupted_ = false;
+  Polisher polisher_;
+  ResidualScale scale_;
+  PolishOptions polish_options_;
+  double residual_ = 0;   ///< of the last relax()
+  long step_polish_ = 0;  ///< polish iterations of the last relax()
+  bool failed_ = false;
+  StepRecord failed_step_;
   std::ostream* log_;
 };
 

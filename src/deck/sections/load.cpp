@@ -16,6 +16,8 @@ void read_load(Section& top, Deck& d) {
   l.number("max_step", {"MaxLoadStepSize"}, L.max_step, positive, "a positive displacement");
   l.boolean("adaptive", L.adaptive);
   l.boolean("predictor", L.predictor);
+  l.integer("max_ruptures_per_step", {}, L.max_ruptures_per_step, 0, 1000000000,
+            "an interface count >= 0 (0: no snap-back control)");
   if (L.tension == 0 && L.bending == 0)
     l.fail("tension", "tension and bending are both zero; expected at least one non-zero load component");
   check_bracket(l, "initial_step", L.initial_step, L.min_step, L.max_step, "min_step");
@@ -23,7 +25,8 @@ void read_load(Section& top, Deck& d) {
   if (!top.table()->contains("dynamics") && L.initial_step > L.final_displacement)
     l.fail("initial_step", "first increment exceeds final_displacement; expected initial_step <= final_displacement");
   l.reject_unknown({"tension", "bending", "final_displacement", "initial_step (InitialLoadStepSize)",
-                    "min_step (MinLoadStepSize)", "max_step (MaxLoadStepSize)", "adaptive", "predictor"});
+                    "min_step (MinLoadStepSize)", "max_step (MaxLoadStepSize)", "adaptive", "predictor",
+                    "max_ruptures_per_step"});
 }
 
 }  // namespace nacre::deck::detail

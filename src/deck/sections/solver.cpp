@@ -42,6 +42,11 @@ void read_solver(Section& top, Deck& d) {
            "(\"kokkos-d1\" needs nacre built with Kokkos Kernels)");
 #endif
   s.integer("presim_cycles", {}, S.presim_cycles, 1, 100000, "an integer in [1, 100000]");
+  s.string("convergence", S.convergence, {"residual", "window"}, "\"residual\" or \"window\"");
+  s.number("residual_tolerance", {}, S.residual_tolerance, [](double v) { return v > 0 && v < 1; },
+           "a tolerance in (0, 1) (the residual is relative to k x1 brick_width)");
+  s.string("polish", S.polish, {"fire", "newton", "none"}, "one of \"fire\", \"newton\", \"none\"");
+  s.integer("polish_iterations", {}, S.polish_iterations, 1, 100000000, "an integer >= 1");
   // The paper's AmpFactor and StructSteps are 1 in every run it reports; nacre implements that
   // case only and says so instead of silently ignoring another value.
   double amp = 1, structs = 1;
@@ -56,7 +61,8 @@ void read_solver(Section& top, Deck& d) {
                     "max_rot_step (MaxRotSize)", "adapt_interval (AdaptInter)", "step_mode", "stol (STOL)", "rtol (RTOL)",
                     "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
                     "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
-                    "quadrature_points", "colouring", "presim_cycles", "AmpFactor", "StructSteps"});
+                    "quadrature_points", "colouring", "presim_cycles", "convergence", "residual_tolerance",
+                    "polish", "polish_iterations", "AmpFactor", "StructSteps"});
 }
 
 }  // namespace nacre::deck::detail
