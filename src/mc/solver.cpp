@@ -26,8 +26,7 @@ Colouring make_colouring(const std::string& name, const geometry::Specimen& s, c
 }
 }  // namespace
 
-Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-               const geometry::Interfaces& f, std::ostream* log)
+Solver::Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log)
     : space_(space),
       deck_(d),
       pattern_{d.load.tension, d.load.bending, d.geometry.width},
@@ -35,7 +34,11 @@ Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Spec
                d.solver.stol_relative),
       step_(d.solver.step),
       rot_step_(d.solver.rot_step),
-      log_(log) {
+      log_(log) {}
+
+Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+               const geometry::Interfaces& f, std::ostream* log)
+    : Solver(space, d, log) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::setup");
   const auto adj = geometry::build_adjacency(s.size(), f);
   std::string chosen = d.solver.colouring;
@@ -58,14 +61,7 @@ std::string auto_colouring() {
 
 Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
                const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c)
-    : space_(space),
-      deck_(d),
-      pattern_{d.load.tension, d.load.bending, d.geometry.width},
-      monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol,
-               d.solver.stol_relative),
-      step_(d.solver.step),
-      rot_step_(d.solver.rot_step),
-      log_(nullptr) {
+    : Solver(space, d, nullptr) {
   setup(s, f, adj, c);
 }
 
@@ -374,21 +370,26 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       }
       break;
     }
+    // what a step record holds whether or not the step converged
+    auto record = [&](int number) {
+      StepRecord r;
+      r.step = number;
+      r.displacement = D_;
+      r.energy = E_;
+      r.cycles = cycles;
+      r.converged = converged;
+      r.increment = inc_now;
+      r.reverts = reverts;
+      r.residual = residual_;
+      r.polish_iterations = step_polish_;
+      r.seconds = timer.seconds();
+      return r;
+    };
     if (!converged && S.convergence == "residual") {
       // "not converged after N cycles": the step is not completed; the caller reports it and
       // keeps the last completed step's checkpoint and rows.
       failed_ = true;
-      failed_step_ = StepRecord{};
-      failed_step_.step = step + 1;
-      failed_step_.displacement = D_;
-      failed_step_.energy = E_;
-      failed_step_.cycles = cycles;
-      failed_step_.converged = false;
-      failed_step_.increment = inc_now;
-      failed_step_.reverts = reverts;
-      failed_step_.residual = residual_;
-      failed_step_.polish_iterations = step_polish_;
-      failed_step_.seconds = timer.seconds();
+      failed_step_ = record(step + 1);
       return;
     }
     Kokkos::deep_copy(space_, prev_pose_, save_pose_);
@@ -396,16 +397,11 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     inc_prev = inc_now;
     if (L.adaptive) inc = std::clamp(inc_now * c_t / std::max<long>(cycles, 1), L.min_step, L.max_step);
 
-    StepRecord r;
-    r.step = ++step;
-    r.displacement = D_;
-    r.energy = E_;
+    StepRecord r = record(++step);
     r.reaction = reaction();
-    r.cycles = cycles;
     const long trials = trials_total_ - trials0;
     r.acceptance = trials > 0 ? static_cast<double>(accepted_total_ - acc0) / trials : 0.0;
     r.ruptured = ruptured();
-    r.converged = converged;
     r.step_size = step_;
     r.rot_step = rot_step_;
     if (brick_steps_.active()) {  // per-brick steps: report their mean (host sum, fixed order)
@@ -415,10 +411,6 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       r.step_size = m_.n_free ? st / m_.n_free : 0.0;
       r.rot_step = m_.n_free ? sr / m_.n_free : 0.0;
     }
-    r.increment = inc_now;
-    r.reverts = reverts;
-    r.residual = residual_;
-    r.polish_iterations = step_polish_;
     run_.max_residual = std::max(run_.max_residual, residual_);
     run_.polish_iterations += step_polish_;
     r.seconds = timer.seconds();

@@ -138,6 +138,8 @@ public:
   void poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const;
 
 private:
+  /// What both public constructors start from: the deck's parameters, no model yet.
+  Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log);
   /// \brief A solver on a given colouring (a pre-simulation candidate).
   Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
          const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c);
