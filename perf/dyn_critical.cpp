@@ -41,16 +41,8 @@ int main(int argc, char* argv[]) {
 
   // ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending
   deck::Deck d;
-  size_specimen(d.geometry, bricks);
-  // width a multiple of half a brick: the running bond then leaves whole and half bricks only, no
-  // slivers (a clipped sliver is a stiffer element type and sets a smaller critical step)
-  d.geometry.width = std::max(3.5, std::round(d.geometry.width / 1.75) * 1.75);
-  d.geometry.notch_length = 0.4 * d.geometry.width;
-  const double L = 0.03;
-  auto& g = d.geometry;
-  g.width *= L, g.height *= L, g.notch_length *= L;
-  g.brick_width = 3.5 * L, g.brick_height = L;
-  g.notch_y = std::floor(0.5 * g.height / L) * L;
+  size_dyn_specimen(d.geometry, bricks);
+  const auto& g = d.geometry;
   geometry::Specimen s = geometry::build_specimen(g);
   const geometry::Interfaces f = geometry::find_interfaces(s, g);
 

@@ -37,16 +37,7 @@ double seconds_since(clock_type::time_point t0) {
 /// Specimen of ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending.
 deck::Deck deck_for(long bricks, double ratio) {
   deck::Deck d;
-  size_specimen(d.geometry, bricks);  // 3.5 x 1 units, 3:2 aspect
-  // width a multiple of half a brick: the running bond then leaves whole and half bricks only, no
-  // slivers (a clipped sliver is a stiffer element type and sets a smaller critical step)
-  d.geometry.width = std::max(3.5, std::round(d.geometry.width / 1.75) * 1.75);
-  d.geometry.notch_length = 0.4 * d.geometry.width;
-  const double L = 0.03;
-  auto& g = d.geometry;
-  g.width *= L, g.height *= L, g.notch_length *= L;
-  g.brick_width = 3.5 * L, g.brick_height = L;
-  g.notch_y = std::floor(0.5 * g.height / L) * L;
+  size_dyn_specimen(d.geometry, bricks);
   const double kx1 = 70.63;  // Table 4.1 k x1 at r = 500, N/mm^2
   d.mortar.bed = d.mortar.head = {7000.0, kx1 / 7000.0, 22.0 / kx1};
   d.load.tension = 0, d.load.bending = 1, d.load.final_displacement = 0.01;
