@@ -161,4 +161,10 @@ TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[dec
   CHECK_THAT(error_of(base + "[solver]\nresidual_tolerance = 2\n"), ContainsSubstring("a tolerance in (0, 1)"));
   CHECK_THAT(error_of(base + "[solver]\npolish = \"lbfgs\"\n"), ContainsSubstring("solver.polish:"));
   CHECK_THAT(error_of(base + "[solver]\npolish_iterations = 0\n"), ContainsSubstring("solver.polish_iterations:"));
+  CHECK(d.solver.relaxation == "monte-carlo");
+  CHECK(parse_deck_string(base + "[solver]\nrelaxation = \"gradient\"\n", "deck.toml").solver.relaxation == "gradient");
+  CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"lbfgs\"\n"),
+             StartsWith("deck.toml:16: solver.relaxation:"));
+  CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"none\"\n"),
+             ContainsSubstring("expected polish = \"fire\" or \"newton\""));
 }

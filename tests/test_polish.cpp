@@ -302,3 +302,39 @@ TEST_CASE("a temperature too high to converge is reported, not passed off as con
   CHECK(solver.failed_step().residual > d.solver.residual_tolerance);
   CHECK(solver.run_state().step == 0);  // nothing counted as done
 }
+
+TEST_CASE("relaxation = gradient: FIRE alone, same load stepping, the same minima before rupture",
+          "[mc][polish][gradient-only]") {
+  // Before any rupture the energy has one minimum per load, so the Monte Carlo path (Monte Carlo,
+  // then the polish) and the pure gradient minimiser must end each step at the same energy.
+  auto d = notched_deck();
+  d.load.adaptive = false;
+  d.load.initial_step = d.load.min_step = d.load.max_step = 0.002;
+  d.load.final_displacement = 0.006;
+  d.solver.residual_tolerance = 1e-9;
+  auto st = make(d);
+  auto run = [&](const char* relaxation) {
+    d.solver.relaxation = relaxation;
+    mc::Solver solver(d, st.s, st.f);
+    std::vector<mc::StepRecord> rows;
+    solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });
+    INFO(relaxation << ": failed step " << solver.failed_step().step << " residual " << solver.failed_step().residual
+                    << " after " << solver.failed_step().polish_iterations << " polish iterations");
+    REQUIRE(!solver.failed());
+    return rows;
+  };
+  const auto mc = run("monte-carlo");
+  const auto gr = run("gradient");
+  REQUIRE(mc.size() == 3);
+  REQUIRE(gr.size() == mc.size());
+  for (std::size_t i = 0; i < mc.size(); ++i) {
+    CAPTURE(i, mc[i].energy, gr[i].energy);
+    CHECK(mc[i].ruptured == 0);
+    CHECK(gr[i].cycles == 0);  // no Monte Carlo at all
+    CHECK(gr[i].polish_iterations > 0);
+    CHECK(gr[i].residual < 1e-9);
+    CHECK(mc[i].cycles > 0);
+    CHECK(gr[i].energy == Catch::Approx(mc[i].energy).epsilon(1e-7));
+    CHECK(gr[i].reaction == Catch::Approx(mc[i].reaction).epsilon(1e-5));
+  }
+}

@@ -268,7 +268,8 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     const auto& f = solver.failed_step();
     io::write_checkpoint(checkpoint_path, last);
     std::cerr << "nacre: step " << f.step << " (D = " << f.displacement << ") not converged after " << f.cycles
-              << " cycles: residual " << f.residual << " > tolerance " << d.solver.residual_tolerance << " ("
+              << " cycles" << (f.polish_iterations ? " and " + std::to_string(f.polish_iterations) + " polish iterations"
+                                                   : std::string()) << ": residual " << f.residual << " > tolerance " << d.solver.residual_tolerance << " ("
               << d.where("solver.residual_tolerance") << ")" << (f.reverts ? " after " + std::to_string(f.reverts) +
               " smaller increments" : std::string()) << "; steps.csv holds the " << last.integer("step")
               << " completed steps and " << checkpoint_path.string() << " the last of them\n";

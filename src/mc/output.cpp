@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <sstream>
 
 namespace nacre::mc {
@@ -90,9 +91,11 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
     << ",\n  \"rng\": \"" << d.solver.rng << "\",\n  \"seed\": " << d.seed
     << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency() << ",\n  \"execution_space\": \""
     << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << steps << ",\n  \"cycles\": "
-    << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds) << ",\n  \"phase_seconds\": {\"rng\": "
+    << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds) << ",\n  \"cpu_seconds\": "
+    << num(static_cast<double>(std::clock()) / CLOCKS_PER_SEC) << ",\n  \"phase_seconds\": {\"rng\": "
     << num(pt.rng) << ", \"sweep\": " << num(pt.sweep) << ", \"energy\": " << num(pt.energy)
-    << ", \"polish\": " << num(pt.polish) << "},\n  \"convergence\": \"" << d.solver.convergence
+    << ", \"polish\": " << num(pt.polish) << "},\n  \"relaxation\": \"" << d.solver.relaxation
+    << "\",\n  \"convergence\": \"" << d.solver.convergence
     << "\",\n  \"residual_tolerance\": " << num(d.solver.residual_tolerance) << ",\n  \"polish\": \""
     << d.solver.polish << "\",\n  \"residual_scale\": {\"force\": " << num(solver.residual_scale().force)
     << ", \"moment\": " << num(solver.residual_scale().moment) << "},\n  \"max_step_residual\": "

@@ -3,6 +3,7 @@
 #include <nacre/mc/polish.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -56,6 +57,16 @@ PolishResult Polisher::fire(const ExecSpace& space, const Model<>& m, const Resi
         "nacre::mc::polish::interface_energy", Kokkos::RangePolicy<ExecSpace>(space, 0, ni),
         KOKKOS_LAMBDA(const int i) { e(i) = ev.energy(i); });
   }
+  // Rounding floor of the energy test: each per-interface difference v - e(i) is exact to about
+  // eps |v|, so near the minimum a true decrease below ~eps E can come out positive; rejecting
+  // such steps halves dt for ever and FIRE stalls (seen at residuals ~1e-8). Steps within this
+  // floor count as level, not uphill.
+  double rounding_floor = 0;
+  {
+    auto e = iface_e_;
+    rounding_floor = 4 * DBL_EPSILON * deterministic_sum(space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
+                                                         KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+  }
   PolishResult r;
   r.residual = residual(space, m, scale);
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
@@ -97,7 +108,7 @@ PolishResult Polisher::fire(const ExecSpace& space, const Model<>& m, const Resi
                                           et(i) = v;
                                           return v - e(i);
                                         });
-    if (dE <= 0.0) {
+    if (dE <= rounding_floor) {
       std::swap(iface_e_, iface_trial_);
       r.energy_change += dE;
     } else {  // rejected: back to the saved poses, at rest, with a smaller step

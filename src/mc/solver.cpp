@@ -280,6 +280,16 @@ long Solver::relax(bool& converged) {
   converged = false;
   step_polish_ = 0;
   long c = 0;
+  if (S.relaxation == "gradient") {
+    // A pure gradient minimiser with the same load stepping: no Monte Carlo at all (0 cycles);
+    // the step converges when the polish reaches the tolerance within polish_iterations.
+    const PolishResult p = polish();
+    step_polish_ = p.iterations;
+    residual_ = p.residual;
+    converged = p.converged || !by_residual;
+    E_ = energy();
+    return 0;
+  }
   for (;;) {
     bool window = false;
     c += mc_phase(limit - c, window);

@@ -87,6 +87,10 @@ struct MonteCarlo {
   double residual_tolerance = 1e-6;  ///< dimensionless, see convergence
   std::string polish = "fire";       ///< after the Monte Carlo relaxation: fire | newton | none
   int polish_iterations = 20000;     ///< FIRE steps / Newton sweeps per polish
+  /// How a load step is relaxed: "monte-carlo" (Monte Carlo phases, then the polish) or
+  /// "gradient" (the polish method alone, from the predicted poses: a pure gradient minimiser
+  /// with the same load stepping, for comparison; needs polish = fire or newton).
+  std::string relaxation = "monte-carlo";
 };
 
 /// \brief Outputs.

@@ -47,6 +47,10 @@ void read_solver(Section& top, Deck& d) {
            "a tolerance in (0, 1) (the residual is relative to k x1 brick_width)");
   s.string("polish", S.polish, {"fire", "newton", "none"}, "one of \"fire\", \"newton\", \"none\"");
   s.integer("polish_iterations", {}, S.polish_iterations, 1, 100000000, "an integer >= 1");
+  s.string("relaxation", S.relaxation, {"monte-carlo", "gradient"}, "\"monte-carlo\" or \"gradient\"");
+  if (S.relaxation == "gradient" && S.polish == "none")
+    s.fail("relaxation", "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\" or "
+                         "\"newton\", not \"none\"");
   // The paper's AmpFactor and StructSteps are 1 in every run it reports; nacre implements that
   // case only and says so instead of silently ignoring another value.
   double amp = 1, structs = 1;
@@ -62,7 +66,7 @@ void read_solver(Section& top, Deck& d) {
                     "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
                     "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
                     "quadrature_points", "colouring", "presim_cycles", "convergence", "residual_tolerance",
-                    "polish", "polish_iterations", "AmpFactor", "StructSteps"});
+                    "polish", "polish_iterations", "relaxation", "AmpFactor", "StructSteps"});
 }
 
 }  // namespace nacre::deck::detail
