@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Speed against accuracy at scale (issue 9 §2): one notched specimen of ~20k bricks (the default
+# deck's geometry scaled up, same law, same load path shape), a converged reference, and a sweep
+# of solver settings, each run to the same final displacement. Every run is timed in process CPU
+# seconds (summary.json's cpu_seconds; one thread per run, so a shared machine does not distort
+# it) and compared with the reference by perf/plot_pareto.py: RMS of the energy-displacement and
+# force-displacement curves, peak force, and the displacement of the first rupture.
+#
+#   devenv/nacre-env run perf/run_pareto.sh [OUTDIR]        (default perf/results/pareto)
+#   devenv/nacre-env run env NACRE_PARETO_VARIANTS=reference,default perf/run_pareto.sh OUT
+#
+# Environment: NACRE_PARETO_BRICKS (default 20000), NACRE_PARETO_FINAL (final displacement,
+# default 0.16: past the peak, about 45 interfaces ruptured at 20k bricks), NACRE_PARETO_JOBS
+# (runs at once, default 2), NACRE_PARETO_VARIANTS (names, default all, in the order below).
+# A variant whose summary.json exists is not run again: the study resumes where it stopped.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${1:-perf/results/pareto}"
+bricks="${NACRE_PARETO_BRICKS:-20000}"
+final="${NACRE_PARETO_FINAL:-0.16}"
+jobs="${NACRE_PARETO_JOBS:-2}"
+mkdir -p "$out"
+cmake --preset openmp >/dev/null && cmake --build --preset openmp --target nacre >/dev/null
+bin=build/openmp/src/nacre
+
+base="$out/base.toml"
+perf/scaled_deck.sh "$bricks" "$final" > "$base"
+
+# name | what it changes (sed expressions on the base deck, which has the default deck's settings)
+solver_key() { echo "s/^\\[solver\\]/[solver]\\n$1/"; }
+declare -A V
+# The reference: fixed increments of 0.002 (the adaptive increments of 0.004-0.01 step over the
+# peak), each converged to 1e-9 by FIRE alone, which ends every step it shares with the Monte
+# Carlo path at 1e-9 (mc-1e-9) in the same state; checked by halving the increment and
+# tightening the residual to 1e-10 (reference-check).
+V[reference]="$(solver_key 'relaxation = "gradient"\nresidual_tolerance = 1e-9\npolish_iterations = 500000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
+V[reference-check]="$(solver_key 'relaxation = "gradient"\nresidual_tolerance = 1e-10\npolish_iterations = 500000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.001/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.001/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.001/"
+V[mc-1e-9]="$(solver_key 'residual_tolerance = 1e-9')"
+V[default]=""
+V[gradient-fire]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000')"
+V[gradient-fire-fixed]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.004/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.004/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.004/"
+V[gradient-fire-fine]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
+V[residual-1e-4]="$(solver_key 'residual_tolerance = 1e-4')"
+V[residual-1e-8]="$(solver_key 'residual_tolerance = 1e-8')"
+V[window]="$(solver_key 'convergence = "window"\npolish = "none"')"
+V[window-loose]="$(solver_key 'convergence = "window"\npolish = "none"');s/^STOL = .*/STOL = 0.01/;s/^RTOL = .*/RTOL = 0.1/;s/^WindowSize = .*/WindowSize = 100/"
+V[window-tight]="$(solver_key 'convergence = "window"\npolish = "none"');s/^STOL = .*/STOL = 0.0005/;s/^RTOL = .*/RTOL = 0.01/;s/^WindowSize = .*/WindowSize = 400/"
+V[window-T1e-6]="$(solver_key 'convergence = "window"\npolish = "none"');s/^TEMP = .*/TEMP = 1e-6/"
+V[T1e-6]="s/^TEMP = .*/TEMP = 1e-6/"
+V[T1e-8]="s/^TEMP = .*/TEMP = 1e-8/"
+V[fixed-load]="s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.004/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.004/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.004/"
+V[no-predictor]="s/^predictor = .*/predictor = false/"
+V[fixed-trial-steps]="s/^AdaptInter = .*/AdaptInter = 0/"
+V[per-brick]="$(solver_key 'step_mode = "per-brick"')"
+order=(reference reference-check mc-1e-9 default gradient-fire gradient-fire-fixed gradient-fire-fine window residual-1e-4 fixed-load no-predictor T1e-6 T1e-8
+       window-loose window-tight window-T1e-6 residual-1e-8 fixed-trial-steps per-brick)
+[ -n "${NACRE_PARETO_VARIANTS:-}" ] && read -r -a order <<< "${NACRE_PARETO_VARIANTS//,/ }"
+
+run_variant() {
+  local name="$1" dir="$out/$1"
+  [ -f "$dir/summary.json" ] && { echo "[pareto] $name: done already"; return 0; }
+  [ -n "${V[$name]+x}" ] || { echo "[pareto] unknown variant $name" >&2; return 2; }
+  mkdir -p "$dir"
+  sed -e "${V[$name]:-s/^//}" "$base" > "$dir/deck.toml"
+  echo "[pareto] $name: start $(date +%T)"
+  local rc=0 TIMEFORMAT='%U %S %R'
+  # user, system and wall seconds of the run (also for a run that fails: it has no summary)
+  { time OMP_NUM_THREADS=1 OMP_PROC_BIND=false "$bin" "$dir/deck.toml" -o "$dir/run" --overwrite -q \
+      > "$dir/log.txt" 2>&1 || rc=$?; } 2> "$dir/time.tmp"
+  mv "$dir/time.tmp" "$dir/time.txt"
+  [ -f "$dir/run/summary.json" ] && cp "$dir/run/summary.json" "$dir/run/steps.csv" "$dir/"
+  [ -f "$dir/run/steps.csv" ] && cp "$dir/run/steps.csv" "$dir/" || true
+  echo "$rc" > "$dir/exit_code"
+  # a run that ends without a summary (not converged: exit 4) still counts, with its rows
+  [ -f "$dir/summary.json" ] || echo "{\"failed\": true, \"exit_code\": $rc}" > "$dir/summary.json"
+  echo "[pareto] $name: exit $rc $(date +%T)"
+}
+
+running=0
+for name in "${order[@]}"; do
+  run_variant "$name" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+done
+wait || true
+python3 perf/plot_pareto.py "$out"

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Scaling of the rigid-brick solver (issue 9 §2; the dissertation: ~N^1.5): total time to the
+# same final displacement against the number of bricks, with the default deck's (adaptive)
+# settings, on the default deck's specimen scaled up (perf/scaled_deck.sh). Each run on one
+# thread, timed in CPU seconds (robust on a shared machine); initialisation (specimen,
+# interfaces, colouring) is the first log line's time and is reported separately.
+# perf/plot_scaling.py fits time = a N^p on the runs and draws the log-log chart.
+#
+#   devenv/nacre-env run perf/run_scaling.sh [OUTDIR]        (default perf/results/scaling)
+#
+# Environment: NACRE_SCALING_SIZES (default 5000,10000,20000,40000,80000), NACRE_SCALING_FINAL
+# (default 0.06: six load steps, before the first rupture, so every size does the same work per
+# brick), NACRE_SCALING_JOBS (runs at once, default 1). A size whose time.txt exists is skipped.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${1:-perf/results/scaling}"
+sizes="${NACRE_SCALING_SIZES:-5000,10000,20000,40000,80000}"
+final="${NACRE_SCALING_FINAL:-0.06}"
+jobs="${NACRE_SCALING_JOBS:-1}"
+mkdir -p "$out"
+cmake --preset openmp >/dev/null && cmake --build --preset openmp --target nacre >/dev/null
+bin=build/openmp/src/nacre
+
+run_size() {
+  local n="$1" dir="$out/n$1"
+  [ -f "$dir/time.txt" ] && { echo "[scaling] $n: done already"; return 0; }
+  mkdir -p "$dir"
+  perf/scaled_deck.sh "$n" "$final" > "$dir/deck.toml"
+  echo "[scaling] $n bricks: start $(date +%T)"
+  local rc=0 TIMEFORMAT='%U %S %R'
+  { time OMP_NUM_THREADS=1 OMP_PROC_BIND=false "$bin" "$dir/deck.toml" -o "$dir/run" --overwrite \
+      > "$dir/log.txt" 2>&1 || rc=$?; } 2> "$dir/time.tmp"
+  cp "$dir/run/steps.csv" "$dir/run/summary.json" "$dir/" 2>/dev/null || true
+  echo "$rc" > "$dir/exit_code"
+  mv "$dir/time.tmp" "$dir/time.txt"
+  echo "[scaling] $n bricks: exit $rc $(date +%T)"
+}
+
+running=0
+for n in ${sizes//,/ }; do
+  run_size "$n" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+done
+wait || true
+python3 perf/plot_scaling.py "$out"
