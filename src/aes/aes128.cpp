@@ -59,6 +59,8 @@ struct EcbLoad {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n, chunk_blocks * per_block),
                          [&](const int i) { buf[i] = L(0); });
   }
+  /// The chunk starting at block `first`, for the kernel's direct (unstaged) host path.
+  const unsigned char* direct(std::size_t first) const { return in.data() + first * 16; }
 };
 
 /// Sink: contiguous copy of the encrypted chunk from scratch to global memory.
@@ -75,6 +77,8 @@ struct EcbStore {
       store_lane<L>(p + std::size_t(i) * sizeof(L), buf[i], aligned);
     });
   }
+  /// The chunk starting at block `first`, for the kernel's direct (unstaged) host path.
+  unsigned char* direct(std::size_t first) const { return out.data() + first * 16; }
 };
 
 }  // namespace
