@@ -686,11 +686,42 @@ inline void encrypt_blocks_io(const typename WordTraits<W>::lane* masks, const u
   alignas(64) W b[128];
 #ifdef NACRE_AES_GFNI_TRANSPOSE
   if constexpr (kGfniTranspose<W>) {
+    // The first round's AddRoundKey + S-boxes run on each byte's 8 words as the transposition's
+    // second pass produces them, and the last round's ShiftRows + AddRoundKey as the inverse
+    // pass consumes them: no separate trips through memory for either.
     __m512i* ta = reinterpret_cast<__m512i*>(a);
     __m512i* tb = reinterpret_cast<__m512i*>(b);
-    gfni::load_state(in, ta, tb);
-    encrypt_state(a, b, masks);
-    gfni::store_state(ta, out, tb);
+    const gfni::Indices ix = gfni::indices();
+    gfni::load_pass1(in, tb);
+    NACRE_AES_UNROLL
+    for (int p = 0; p < 16; ++p) {
+      __m512i w[8];
+      gfni::load_pass2(tb, p, w, ix);
+      W q[8];
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) q[i] = W(w[i]) ^ masks[8 * p + i];
+      sbox(q);
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) a[8 * p + i] = q[i];
+    }
+    for (int r = 1; r < 9; r += 2) {
+      mix_add_sub(a, b, masks + 128 * r);
+      mix_add_sub(b, a, masks + 128 * (r + 1));
+    }
+    mix_add_sub(a, b, masks + 128 * 9);
+    const typename WordTraits<W>::lane* m10 = masks + 128 * 10;
+    NACRE_AES_UNROLL
+    for (int c = 0; c < 4; ++c)
+      NACRE_AES_UNROLL
+      for (int r = 0; r < 4; ++r) {  // ShiftRows: output (r, c) reads byte (r, c + r mod 4)
+        const int p = r + 4 * c;
+        const W* x = b + 8 * (r + 4 * ((c + r) & 3));
+        __m512i w[8];
+        NACRE_AES_UNROLL
+        for (int i = 0; i < 8; ++i) w[i] = __m512i(x[i] ^ m10[8 * p + i]);
+        gfni::store_pass2(w, p, ta, ix);
+      }
+    gfni::store_pass1(ta, out);
     return;
   }
 #endif

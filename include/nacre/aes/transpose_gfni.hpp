@@ -102,9 +102,9 @@ inline __attribute__((always_inline)) void pass2_exchanges(__m512i* r, const Ind
   for (int j = 0; j < 4; ++j) exchange<2>(r[j], r[j + 4], ix);
 }
 
-/// Bitslice 512 blocks (8192 bytes at in, any alignment) into st[0..128) (st[8p + i] = bit i of
-/// byte p of every block); tmp: 128 x 64 bytes of scratch, 64-byte aligned.
-inline void load_state(const void* in, __m512i* st, __m512i* tmp) {
+/// Load pass 1: 8192 bytes at in (any alignment) -> tmp[0..128) (64-byte aligned): register
+/// 16 g + p then holds byte position p of its blocks, bit index 7 - i in byte bits 0..2.
+inline void load_pass1(const void* in, __m512i* tmp) {
   const Indices ix = indices();
   const char* src = static_cast<const char*>(in);
   for (int g = 0; g < 8; ++g) {
@@ -113,32 +113,51 @@ inline void load_state(const void* in, __m512i* st, __m512i* tmp) {
     pass1_exchanges(r, ix);
     for (int j = 0; j < 16; ++j) tmp[16 * g + j] = transpose8(r[j]);
   }
-  // Register 16 g + p now holds byte position p; pass 2 moves the bit index (7 - i after the
-  // GFNI transform) into g.
-  for (int p = 0; p < 16; ++p) {
-    __m512i r[8];
-    for (int g = 0; g < 8; ++g) r[g] = tmp[16 * g + p];
-    pass2_exchanges(r, ix);
-    for (int g = 0; g < 8; ++g) st[8 * p + 7 - g] = r[g];
-  }
 }
 
-/// Inverse of load_state: st (destroyed) to 8192 bytes at out (any alignment).
-inline void store_state(__m512i* st, void* out, __m512i* tmp) {
+/// Load pass 2 for byte position p: w[i] = state word 8 p + i (bit i of byte p of every block).
+inline __attribute__((always_inline)) void load_pass2(const __m512i* tmp, int p, __m512i* w,
+                                                      const Indices& ix) {
+  __m512i r[8];
+  for (int g = 0; g < 8; ++g) r[g] = tmp[16 * g + p];
+  pass2_exchanges(r, ix);
+  for (int g = 0; g < 8; ++g) w[7 - g] = r[g];
+}
+
+/// Inverse of load_pass2: the 8 words w[i] of byte position p -> tmp.
+inline __attribute__((always_inline)) void store_pass2(const __m512i* w, int p, __m512i* tmp,
+                                                       const Indices& ix) {
+  __m512i r[8];
+  for (int g = 0; g < 8; ++g) r[g] = w[7 - g];
+  pass2_exchanges(r, ix);  // the three exchanges touch disjoint bits: they commute
+  for (int g = 0; g < 8; ++g) tmp[16 * g + p] = r[g];
+}
+
+/// Inverse of load_pass1: tmp -> 8192 bytes at out (any alignment).
+inline void store_pass1(const __m512i* tmp, void* out) {
   const Indices ix = indices();
   char* dst = static_cast<char*>(out);
-  for (int p = 0; p < 16; ++p) {
-    __m512i r[8];
-    for (int g = 0; g < 8; ++g) r[g] = st[8 * p + 7 - g];
-    pass2_exchanges(r, ix);  // the three exchanges touch disjoint bits: they commute
-    for (int g = 0; g < 8; ++g) tmp[16 * g + p] = r[g];
-  }
   for (int g = 0; g < 8; ++g) {
     __m512i r[16];
     for (int j = 0; j < 16; ++j) r[j] = transpose8(tmp[16 * g + j]);
     pass1_exchanges(r, ix);
     for (int j = 0; j < 16; ++j) _mm512_storeu_si512(dst + 64 * (16 * g + j), r[j]);
   }
+}
+
+/// Bitslice 512 blocks (8192 bytes at in, any alignment) into st[0..128) (st[8p + i] = bit i of
+/// byte p of every block); tmp: 128 x 64 bytes of scratch, 64-byte aligned.
+inline void load_state(const void* in, __m512i* st, __m512i* tmp) {
+  load_pass1(in, tmp);
+  const Indices ix = indices();
+  for (int p = 0; p < 16; ++p) load_pass2(tmp, p, st + 8 * p, ix);
+}
+
+/// Inverse of load_state: st to 8192 bytes at out (any alignment).
+inline void store_state(const __m512i* st, void* out, __m512i* tmp) {
+  const Indices ix = indices();
+  for (int p = 0; p < 16; ++p) store_pass2(st + 8 * p, p, tmp, ix);
+  store_pass1(tmp, out);
 }
 
 }  // namespace nacre::aes::bitslice::gfni
