@@ -122,7 +122,9 @@ std::string aes128_layout_description() {
   using W = typename detail::ExecWord<Space>::type;
   return std::string(bitslice::WordTraits<W>::name) + ", " +
          std::to_string(bitslice::kBlocks<W>) + " blocks/thread, team size " +
-         std::to_string(detail::ExecWord<Space>::team_size);
+         std::to_string(detail::ExecWord<Space>::team_size) + ", transposition " +
+         (bitslice::kGfniTranspose<W> ? "GFNI + vpermt2b (x86)" : "SWAPMOVE (portable)") +
+         (detail::ExecWord<Space>::host && bitslice::kDirectIO<W> ? ", unstaged host I/O" : "");
 }
 
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
