@@ -25,6 +25,10 @@
 ///   (each work item copies its input to registers/stack before writing): row, reordered<NB>,
 ///   batched (KokkosBatched::SerialGemv), shared_gemm (tiles of kTile slots x kRowBlock rows of
 ///   accumulators, the matrix broadcast from L1).
+/// - The fused tiled step (shared_gemm with the tiled element apply) is three passes per step with
+///   the defaults (two iterations, force kept): start + first J^-1 apply, the interface force at
+///   x_1, then the second iteration and the end of the step in one pass (BieIterFinalTileTag: both
+///   use the force at x_1, so one gather and one load/store of the state serve both).
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
