@@ -14,11 +14,14 @@
 #      variants in-process, and `openssl speed -evp` (16 KiB blocks) for the same three; the
 #      summary takes per-round ratios (nacre / OpenSSL in the same round) and their median, so
 #      the machine's other users move numerator and denominator together;
-#   3. random doubles per second: Random123 Philox4x32-10, nacre's philox, aes-ctr and mt-aes
+#   3. the bare cipher core (nacre_aes_core_bench, one thread, no Kokkos kernel, L2-resident):
+#      the build's path against the portable transposition, and the phases, --reps rounds;
+#   4. random doubles per second: Random123 Philox4x32-10, nacre's philox, aes-ctr and mt-aes
 #      sources (4 doubles per stream and draw, 2^20 streams), 1 and 2 threads.
-# Rates are per wall second and per CPU second of the process (columns rate, rate_per_cpu).
-# Writes OUTDIR/aes_bench.csv, aes_bench.json, aes_bench.md, aes_bench.log, machine.txt and the
-# chart aes_bench.png.
+# Rates are per wall second and per CPU second of the process (columns rate, rate_per_cpu);
+# OpenMP threads wait passively (OMP_WAIT_POLICY=passive). machine.txt records the load average.
+# Writes OUTDIR/aes_bench.csv, aes_core.csv, aes_bench.json, aes_bench.md, aes_bench.log,
+# machine.txt and the chart aes_bench.png.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
@@ -35,16 +38,19 @@ while [ $# -gt 1 ]; do
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
-[ $# -eq 1 ] || { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 1 ] || { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 OUT="$1"; mkdir -p "$OUT"
 if [ -x "$BUILD/perf/nacre_aes_bench" ]; then BENCH="$BUILD/perf/nacre_aes_bench";
 elif [ -x "$BUILD/nacre_aes_bench" ]; then BENCH="$BUILD/nacre_aes_bench";
 else echo "nacre_aes_bench not found under $BUILD (build the perf targets, or pass --build)" >&2; exit 1; fi
-export OMP_PROC_BIND=spread OMP_PLACES=cores
+# passive: a thread that reaches a barrier first sleeps instead of spinning, so on a shared
+# machine the waiting is not counted as CPU time of the cipher (and the other thread can run).
+export OMP_PROC_BIND=spread OMP_PLACES=cores OMP_WAIT_POLICY=passive
 unset OPENSSL_ia32cap
 NOAESNI="~0x200000200000000"
 CSV="$OUT/aes_bench.csv"
 LOG="$OUT/aes_bench.log"
+LOAD_START="$(cut -d' ' -f1-3 /proc/loadavg)"
 echo "kind,impl,threads,size_bytes,count,seconds,cpu_seconds,rate,rate_per_cpu,unit,rep" >"$CSV"
 : >"$LOG"
 run() { echo "+ $*" >>"$LOG"; "$@" 2>>"$LOG" | tee -a "$CSV"; }
@@ -82,12 +88,20 @@ for rep in $(seq 1 "$REPS"); do
   speed speed-aesni-ecb aes-128-ecb "$rep"
 done
 
-# 3. Random-number generators.
+# 3. The bare cipher core on one thread (no kernel): build path, portable transposition, phases.
+CORE="$(dirname "$BENCH")/nacre_aes_core_bench"
+if [ -x "$CORE" ]; then
+  echo "+ $CORE --rounds=$REPS" >>"$LOG"
+  "$CORE" --rounds="$REPS" 2>>"$LOG" >"$OUT/aes_core.csv"
+fi
+
+# 4. Random-number generators.
 run "$BENCH" --mode=rng --min-time="$MINT" --kokkos-num-threads=1
 run "$BENCH" --mode=rng --min-time="$MINT" --kokkos-num-threads=2
 {
   echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //') (family $(grep -m1 '^cpu family' /proc/cpuinfo | cut -d: -f2 | tr -d ' '), model $(grep -m1 '^model[[:space:]]*:' /proc/cpuinfo | cut -d: -f2 | tr -d ' '))"
   echo "cores: $(nproc)"
+  echo "load average (1/5/15 min) at start: $LOAD_START, at end: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "flags: $(grep -m1 '^flags' /proc/cpuinfo | grep -ow 'avx512f\|avx512bw\|avx512vbmi\|avx2\|aes\|vaes\|gfni' | sort -u | tr '\n' ' ')"
   echo "openssl: $(openssl version)"
   echo "compiler: $(c++ --version | head -1)"
