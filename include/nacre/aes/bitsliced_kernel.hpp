@@ -32,6 +32,14 @@ struct ExecWord {
   static constexpr int team_size = host ? 1 : 64;
 };
 
+/// \brief Sources and sinks that are plain host memory say so with direct(first_block) (a byte
+/// pointer to the chunk): with a SIMD host word and one thread per team the kernel then encrypts
+/// full chunks straight from the input to the output, without the scratch copies.
+template <class T, class = void>
+struct has_direct : std::false_type {};
+template <class T>
+struct has_direct<T, std::void_t<decltype(&T::direct)>> : std::true_type {};
+
 template <class ExecSpace>
 using exec_lane_t = typename bitslice::WordTraits<typename ExecWord<ExecSpace>::type>::lane;
 
@@ -63,10 +71,30 @@ struct BitslicedTeamKernel {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, bitslice::kMaskCount),
                          [&](const int i) { smask[i] = masks(i); });
     team.team_barrier();
-    for (std::size_t chunk = team.league_rank(); chunk < nchunks; chunk += team.league_size()) {
+    // Each team takes a contiguous range of chunks, so a CPU thread streams through memory in
+    // order (the hardware prefetchers follow it; a stride of league_size chunks defeated them).
+    const std::size_t per_team = (nchunks + std::size_t(team.league_size()) - 1) /
+                                 std::size_t(team.league_size());
+    const std::size_t c_begin = std::size_t(team.league_rank()) * per_team;
+    const std::size_t c_end = c_begin + per_team < nchunks ? c_begin + per_team : nchunks;
+    for (std::size_t chunk = c_begin; chunk < c_end; ++chunk) {
       const std::size_t first = chunk * std::size_t(chunk_blocks);
       const std::size_t left = nblocks - first;
       const int nb = left < std::size_t(chunk_blocks) ? int(left) : chunk_blocks;
+      if constexpr (ExecWord<ExecSpace>::host && bitslice::kDirectIO<Word> &&
+                    has_direct<Source>::value && has_direct<Sink>::value) {
+        if (team_size == 1 && nb == chunk_blocks) {  // public: sizes only
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__) && !defined(__HIPCC__)
+          if (chunk + 1 < c_end) {  // the next chunk's input towards L2 while this one runs
+            const unsigned char* next = src.direct(first + std::size_t(chunk_blocks));
+            for (int line = 0; line < chunk_blocks * 16; line += 64)
+              __builtin_prefetch(next + line, 0, 2);
+          }
+#endif
+          bitslice::encrypt_blocks_io<Word>(smask, src.direct(first), sink.direct(first));
+          continue;
+        }
+      }
       src(team, first, nb, chunk_blocks, sbuf);
       team.team_barrier();
       if (team.team_rank() * kB < nb) {  // public: skip threads holding only padding
