@@ -157,17 +157,21 @@ void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m
       });
 }
 
-/// \brief Energy of interface i with brick b (one of its ends) in frame f and the other end at its
-/// current pose; the sides are passed in the interface's order (a, then b).
-template <class PV, class EV, class SV, class KV>
-KOKKOS_INLINE_FUNCTION double energy_with(const PV& p, const EV& ends, const SV& seg, const KV& kind,
-                                          const cohesive::LawTable& laws, const cohesive::Quadrature& q, int i, int b,
-                                          const kinematics::Frame& f) {
-  const int a = ends(i, 0), c = ends(i, 1);
-  const cohesive::Law& law = laws[kind(i)];
-  const kinematics::Segment sg = load_segment(seg, i);
-  return a == b ? kinematics::interface_energy(law, q, sg, f, frame_of(p, c))
-                : kinematics::interface_energy(law, q, sg, frame_of(p, a), f);
+/// \brief Energy of the interface in adjacency slot j with its brick in frame f and the other
+/// brick in frame fo (Model::slot: oriented from the brick's side; same bits as the interface's
+/// own orientation, see there).
+template <class SlotView>
+KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesive::Law& law,
+                                          const kinematics::Frame& f, const kinematics::Frame& fo) {
+  using C = SlotCol;
+  double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
+  kinematics::point_displacement(f, r(j, col(C::r0x)), r(j, col(C::r0y)), a0x, a0y);
+  kinematics::point_displacement(f, r(j, col(C::r1x)), r(j, col(C::r1y)), a1x, a1y);
+  kinematics::point_displacement(fo, r(j, col(C::o0x)), r(j, col(C::o0y)), b0x, b0y);
+  kinematics::point_displacement(fo, r(j, col(C::o1x)), r(j, col(C::o1y)), b1x, b1y);
+  const double tm = 0.5 * (f.t + fo.t), nx = r(j, col(C::nx)), ny = r(j, col(C::ny));
+  const cohesive::Gap g{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, nx - tm * ny, ny + tm * nx};
+  return cohesive::segment_energy(law, g, r(j, col(C::length)));
 }
 
 /// \brief Most interfaces of one brick whose trial energies a trial keeps in registers for the
@@ -192,13 +196,12 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
                   double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   auto p = m.pose;
-  auto ends = m.ends;
-  auto seg = m.seg;
-  auto kind = m.kind;
-  auto off = m.adj_offset, adj = m.adj_iface;
+  auto off = m.adj_offset;
+  auto slot = m.slot;
+  auto link = m.slot_link;
+  auto skind = m.slot_kind;
   auto tiles = m.tile_offset;
   const cohesive::LawTable laws = m.laws;
-  const cohesive::Quadrature q = m.quad;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
@@ -217,17 +220,18 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
         double e_old = 0, e_new = 0;
         double keep[kTrialKeep];
         for (int j = j0; j < j1; ++j) {
-          const int i = adj(j);
-          const double en = energy_with(p, ends, seg, kind, laws, q, i, b, f_new);
+          const double en = slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
           if (j - j0 < kTrialKeep) keep[j - j0] = en;
-          e_old += cache(i);
+          e_old += cache(link(j, 1));
           e_new += en;
         }
         const double d = e_new - e_old;
         const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
         if (accept) {
           store_frame(p, b, f_new);
-          for (int j = j0; j < j1; ++j) cache(adj(j)) = j - j0 < kTrialKeep ? keep[j - j0] : energy_with(p, ends, seg, kind, laws, q, adj(j), b, f_new);
+          for (int j = j0; j < j1; ++j)
+            cache(link(j, 1)) =
+                j - j0 < kTrialKeep ? keep[j - j0] : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
           acc += 1;
           if (per_brick) bacc(b) += 1;  // one thread per brick: no race
         }
