@@ -214,7 +214,8 @@ TEST_CASE("the sweep's interface-energy cache holds each interface's energy at t
         for (int k = 0; k < 4; ++k) hu(b, k) = U(gen);
       Kokkos::deep_copy(space, u, hu);
       for (std::size_t c = 0; c + 1 < m.colour_tiles.size(); ++c)
-        accepted += mc::sweep_colour(space, m, m.colour_tiles[c], m.colour_tiles[c + 1], u, cache, de, 2e-4, 1e-4, 1e-7);
+        accepted += mc::sweep_colour(space, m, m.colour_tiles[c], m.colour_tiles[c + 1], mc::TableUniforms<MemSpace>{u},
+                                     cache, de, 2e-4, 1e-4, 1e-7);
     }
     CHECK(accepted > 0);
     CHECK(accepted < 30L * m.n_free);
@@ -230,6 +231,46 @@ TEST_CASE("the sweep's interface-energy cache holds each interface's energy at t
     CHECK(damaged > 0);  // the non-elastic branches are exercised too
     CHECK(std::memcmp(hc.data(), hf.data(), sizeof(double) * m.n_interfaces) == 0);
   }
+}
+
+TEST_CASE("Philox numbers generated inside the sweep are those of the Philox table", "[mc][determinism]") {
+  // The solver draws Philox in place (PhiloxUniforms) instead of filling the table first: the
+  // same trials must come out, bit for bit, as from the table PhiloxSource fills.
+  const auto d = cracking_deck();
+  const auto st = make(d);
+  const auto adj = geometry::build_adjacency(st.s.size(), st.f);
+  std::vector<bool> free(st.s.size());
+  for (std::size_t i = 0; i < st.s.size(); ++i) free[i] = st.s.drive[i] == geometry::Drive::free;
+  const ExecSpace space;
+  const auto c = mc::colour_graph("tiles", st.s, adj, free, 1);
+  const std::uint64_t seed = 0x5eed1234abcdull;
+  rng::PhiloxSource source(seed);
+  std::vector<double> poses[2];
+  long accepted[2] = {0, 0};
+  for (int in_place = 0; in_place < 2; ++in_place) {
+    auto m = mc::build_model(space, st.s, st.f, adj, c, d.mortar, 4);
+    mc::apply_load(space, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.006);
+    Field<double> cache("nacre::test::cache", m.n_interfaces), de("nacre::test::de", m.n_free);
+    rng::UniformTable<> u("nacre::test::u", m.n_free);
+    mc::interface_energies(space, m, cache);
+    for (std::uint64_t cyc = 0; cyc < 10; ++cyc) {
+      if (!in_place) source.fill(space, cyc, Kokkos::subview(m.id, Kokkos::make_pair(0, m.n_free)), u);
+      for (std::size_t k = 0; k + 1 < m.colour_tiles.size(); ++k) {
+        if (in_place)
+          accepted[1] += mc::sweep_colour(space, m, m.colour_tiles[k], m.colour_tiles[k + 1], mc::PhiloxUniforms<MemSpace>{m.id, seed, cyc},
+                           cache, de, 2e-4, 1e-4, 1e-7);
+        else
+          accepted[0] += mc::sweep_colour(space, m, m.colour_tiles[k], m.colour_tiles[k + 1], mc::TableUniforms<MemSpace>{u}, cache, de,
+                           2e-4, 1e-4, 1e-7);
+      }
+    }
+    auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.pose);
+    poses[in_place].assign(hp.data(), hp.data() + hp.size());
+  }
+  REQUIRE(poses[0].size() == poses[1].size());
+  CHECK(std::memcmp(poses[0].data(), poses[1].data(), sizeof(double) * poses[0].size()) == 0);
+  CHECK(accepted[0] == accepted[1]);
+  CHECK(accepted[1] > 0);
 }
 
 TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-count comparison",

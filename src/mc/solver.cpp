@@ -130,7 +130,10 @@ void Solver::allocate_work() {
   using Kokkos::WithoutInitializing;
   const auto n = static_cast<std::size_t>(m_.n_bricks), nf = static_cast<std::size_t>(m_.n_free);
   // Written before read each cycle / step: no initialisation pass.
-  u_ = rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
+  // The uniforms table only for sources that fill one (Philox is drawn inside the sweep).
+  u_ = dynamic_cast<const rng::PhiloxSource*>(source_.get())
+           ? rng::UniformTable<>()
+           : rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
   save_pose_ = Model<>::PoseView(view_alloc(space_, WithoutInitializing, "nacre::mc::save_pose"), n);
   phi_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::phi"), n);
   de_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::delta_energy"), nf);
@@ -203,7 +206,10 @@ PolishResult Solver::polish(const std::string& method, double tolerance) {
 
 long Solver::cycle() {
   Kokkos::Timer timer;
-  {
+  // Philox (the default) is generated inside the sweep, brick by brick: the same numbers as its
+  // table (rng::philox_uniforms), without the table pass. Other sources fill the table first.
+  const auto* philox = dynamic_cast<const rng::PhiloxSource*>(source_.get());
+  if (!philox) {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::rng");
     auto streams = Kokkos::subview(m_.id, Kokkos::make_pair(0, m_.n_free));
     source_->fill(space_, global_cycle_, streams, u_);
@@ -220,9 +226,13 @@ long Solver::cycle() {
       interface_energies(space_, m_, iface_energy_);
       cache_valid_ = true;
     }
-    for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
-      accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, iface_energy_, de_, step_,
-                               rot_step_, T, brick_steps_);
+    auto sweep = [&](const auto& uniforms) {
+      for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
+        accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], uniforms, iface_energy_,
+                                 de_, step_, rot_step_, T, brick_steps_);
+    };
+    if (philox) sweep(PhiloxUniforms<MemSpace>{m_.id, philox->seed(), global_cycle_});
+    else sweep(TableUniforms<MemSpace>{u_});
     auto d = de_;
     de = deterministic_sum(space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
                            KOKKOS_LAMBDA(const int b) { return d(b); });

@@ -174,6 +174,25 @@ KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesi
   return cohesive::segment_energy(law, g, r(j, col(C::length)));
 }
 
+/// \brief A trial's four uniforms read from a table filled beforehand (any UniformSource).
+template <class MemorySpace>
+struct TableUniforms {
+  rng::UniformTable<MemorySpace> u;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double r[4]) const {
+    r[0] = u(b, 0), r[1] = u(b, 1), r[2] = u(b, 2), r[3] = u(b, 3);
+  }
+};
+
+/// \brief A trial's four uniforms generated where they are used: Philox at the brick's stream
+/// (its original id) and the cycle's draw index, the same numbers rng::PhiloxSource writes into
+/// the table (one function, rng::philox_uniforms), so no table pass and no table traffic.
+template <class MemorySpace>
+struct PhiloxUniforms {
+  Kokkos::View<const std::uint64_t*, MemorySpace> id;
+  std::uint64_t seed, draw;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double r[4]) const { rng::philox_uniforms(seed, id(b), draw, r); }
+};
+
 /// \brief Most interfaces of one brick whose trial energies a trial keeps in registers for the
 /// cache update on acceptance; a brick with more (not produced by nacre's walls, which give 4-8)
 /// recomputes the rest on acceptance: correct for any degree, fast for the usual one.
@@ -181,7 +200,8 @@ inline constexpr int kTrialKeep = 12;
 
 /// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
 /// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
-/// share no interface, so the trials are independent; u(b, 0..3) holds brick b's uniforms.
+/// share no interface, so the trials are independent; uniforms(b, r) gives brick b's four
+/// uniforms (TableUniforms or PhiloxUniforms).
 /// cache(i) holds interface i's energy at the current poses (interface_energies): a trial
 /// evaluates only the brick's own interfaces at the trial pose, the old energy is the sum of
 /// their cached values, and an accepted trial writes its new values back. Same-colour bricks
@@ -190,9 +210,9 @@ inline constexpr int kTrialKeep = 12;
 /// order, so e_old has the bits of a recomputation at the current poses.
 /// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
 /// returned (an integer reduction, exact for any thread count).
-template <class ExecutionSpace, class MemorySpace>
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
 long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
-                  rng::UniformTable<MemorySpace> u, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
                   double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   auto p = m.pose;
@@ -212,9 +232,11 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
       KOKKOS_LAMBDA(const int w, long& acc) {
        for (int b = tiles(w); b < tiles(w + 1); ++b) {
         const kinematics::Frame f_old = frame_of(p, b);
+        double u[4];
+        uniforms(b, u);
         const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
-        const kinematics::Pose trial{f_old.x + s * (2.0 * u(b, 0) - 1.0), f_old.y + s * (2.0 * u(b, 1) - 1.0),
-                                     f_old.t + sr * (2.0 * u(b, 2) - 1.0)};
+        const kinematics::Pose trial{f_old.x + s * (2.0 * u[0] - 1.0), f_old.y + s * (2.0 * u[1] - 1.0),
+                                     f_old.t + sr * (2.0 * u[2] - 1.0)};
         const kinematics::Frame f_new = kinematics::make_frame(trial);
         const int j0 = off(b), j1 = off(b + 1);
         double e_old = 0, e_new = 0;
@@ -226,7 +248,7 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
           e_new += en;
         }
         const double d = e_new - e_old;
-        const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
+        const bool accept = d <= 0.0 || (inv_t > 0.0 && u[3] < Kokkos::exp(-d * inv_t));
         if (accept) {
           store_frame(p, b, f_new);
           for (int j = j0; j < j1; ++j)
@@ -251,7 +273,7 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
   Field<double, MemorySpace> cache(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::energy_cache"),
                                    m.n_interfaces);
   interface_energies(space, m, cache);
-  return sweep_colour(space, m, begin, end, u, cache, de, step, rot_step, temperature, brick_steps);
+  return sweep_colour(space, m, begin, end, TableUniforms<MemorySpace>{u}, cache, de, step, rot_step, temperature, brick_steps);
 }
 
 /// \brief Position predictor (eq. 2.10, 2.11) for the free bricks: p += ratio (p - p_prev) m,
