@@ -1,13 +1,18 @@
-// Throughput of nacre's bitsliced AES-128-ECB, OpenSSL's AES-128-ECB (EVP) and of random-number
-// generators (Random123 Philox, nacre's Philox, AES-CTR and MT+AES sources).
+// Throughput of nacre's bitsliced AES-128-ECB, OpenSSL's AES-128-ECB and -CTR (EVP) and of
+// random-number generators (Random123 Philox, nacre's Philox, AES-CTR and MT+AES sources).
 //
 //   nacre_aes_bench --mode=nacre   [--min-size=65536] [--max-size=1073741824] [--min-time=0.5]
-//   nacre_aes_bench --mode=openssl [same]      (AES-NI masked off by OPENSSL_ia32cap in the env)
+//   nacre_aes_bench --mode=openssl [same] [--cipher=ecb|ctr]  (AES-NI masked off by
+//                                  OPENSSL_ia32cap="~0x200000200000000" in the environment)
 //   nacre_aes_bench --mode=rng     [--streams=1048576] [--min-time=0.5]
-//   plus --label=NAME (column impl) and any --kokkos-* option (e.g. --kokkos-num-threads=2).
+//   plus --label=NAME (column impl), --kind=NAME (column kind, default cipher / rng),
+//   --rep=N (column rep, for interleaved repetitions) and any --kokkos-* option.
 //
-// Writes CSV rows to stdout: kind,impl,threads,size_bytes,count,seconds,rate,unit
-// (kind = cipher: rate in Gbit/s of plaintext; kind = rng: rate in random doubles per second).
+// Writes CSV rows to stdout:
+//   kind,impl,threads,size_bytes,count,seconds,cpu_seconds,rate,rate_per_cpu,unit,rep
+// kind = cipher: rate in Gbit/s of plaintext per wall second, rate_per_cpu per CPU second of the
+// process (all its threads: the per-core rate, insensitive to time the machine's other users
+// take); kind = rng: random doubles per second.
 #include <nacre/aes/aes128.hpp>
 #include <nacre/aes/aes_sources.hpp>
 #include <nacre/rng/uniform_source.hpp>
@@ -19,6 +24,7 @@
 #endif
 
 #include <chrono>
+#include <ctime>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -38,30 +44,49 @@ struct Options {
   std::size_t max_size = std::size_t(1) << 30;
   double min_time = 0.5;
   std::size_t streams = std::size_t(1) << 20;
+  std::string cipher = "ecb";
+  std::string kind;
+  int rep = 0;
 };
+
+Options g_opt;
 
 double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/// Run f repeatedly (after one warm-up call) until min_time has passed; return (reps, seconds).
-std::pair<long, double> time_it(double min_time, const std::function<void()>& f) {
+/// CPU time of the whole process (all threads), seconds.
+double cpu_now() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+struct Timing {
+  long reps;
+  double seconds, cpu_seconds;
+};
+
+/// Run f repeatedly (after one warm-up call) until min_time has passed; wall and CPU time.
+Timing time_it(double min_time, const std::function<void()>& f) {
   f();
   long reps = 0;
-  const double t0 = now();
+  const double t0 = now(), c0 = cpu_now();
   double t = t0;
   do {
     f();
     ++reps;
     t = now();
   } while (t - t0 < min_time);
-  return {reps, t - t0};
+  return {reps, t - t0, cpu_now() - c0};
 }
 
 void row(const char* kind, const std::string& impl, int threads, std::size_t size,
-         std::size_t count, double seconds, double rate, const char* unit) {
-  std::printf("%s,%s,%d,%zu,%zu,%.6f,%.6g,%s\n", kind, impl.c_str(), threads, size, count, seconds,
-              rate, unit);
+         std::size_t count, const Timing& tm, double amount, const char* unit) {
+  const std::string k = g_opt.kind.empty() ? kind : g_opt.kind;
+  std::printf("%s,%s,%d,%zu,%zu,%.6f,%.6f,%.6g,%.6g,%s,%d\n", k.c_str(), impl.c_str(), threads,
+              size, count, tm.seconds, tm.cpu_seconds, amount / tm.seconds,
+              amount / tm.cpu_seconds, unit, g_opt.rep);
   std::fflush(stdout);
 }
 
@@ -84,11 +109,11 @@ void bench_nacre(const Options& o) {
                        KOKKOS_LAMBDA(const std::size_t i) { buf(i) = std::uint8_t(i * 7); });
   for (const std::size_t n : sizes(o)) {
     auto v = Kokkos::subview(buf, std::make_pair(std::size_t(0), n));
-    const auto [reps, sec] = time_it(o.min_time, [&] {
+    const Timing tm = time_it(o.min_time, [&] {
       nacre::aes::aes128_ecb_encrypt(key, v, v);
       Kokkos::fence();
     });
-    row("cipher", impl, threads, n, std::size_t(reps), sec, 8.0 * double(n) * reps / sec / 1e9,
+    row("cipher", impl, threads, n, std::size_t(tm.reps), tm, 8.0 * double(n) * tm.reps / 1e9,
         "Gbit/s");
   }
 }
@@ -98,20 +123,23 @@ void bench_openssl(const Options& o) {
   (void)o;
   throw std::runtime_error("nacre_aes_bench was built without OpenSSL: --mode=openssl is not available");
 #else
-  const std::string impl = o.label.empty() ? "openssl" : o.label;
+  const std::string impl = o.label.empty() ? "openssl-" + o.cipher : o.label;
   const char* cap = std::getenv("OPENSSL_ia32cap");
-  std::fprintf(stderr, "OpenSSL %s, OPENSSL_ia32cap=%s\n", OpenSSL_version(OPENSSL_VERSION),
-               cap ? cap : "(unset)");
+  std::fprintf(stderr, "OpenSSL %s, AES-128-%s, OPENSSL_ia32cap=%s\n",
+               OpenSSL_version(OPENSSL_VERSION), o.cipher.c_str(), cap ? cap : "(unset)");
+  if (o.cipher != "ecb" && o.cipher != "ctr") throw std::runtime_error("--cipher must be ecb or ctr");
+  const EVP_CIPHER* cipher = o.cipher == "ctr" ? EVP_aes_128_ctr() : EVP_aes_128_ecb();
+  unsigned char iv[16] = {};
   unsigned char key[16];
   for (int i = 0; i < 16; ++i) key[i] = std::uint8_t(0x11 * i + 3);
   std::vector<unsigned char> buf(o.max_size + 16);
   for (std::size_t i = 0; i < buf.size(); ++i) buf[i] = std::uint8_t(i * 7);
   EVP_CIPHER_CTX* ctx = EVP_CIPHER_CTX_new();
-  if (!ctx || EVP_EncryptInit_ex(ctx, EVP_aes_128_ecb(), nullptr, key, nullptr) != 1)
+  if (!ctx || EVP_EncryptInit_ex(ctx, cipher, nullptr, key, iv) != 1)
     throw std::runtime_error("EVP init failed");
   EVP_CIPHER_CTX_set_padding(ctx, 0);
   for (const std::size_t n : sizes(o)) {
-    const auto [reps, sec] = time_it(o.min_time, [&] {
+    const Timing tm = time_it(o.min_time, [&] {
       // EVP_EncryptUpdate takes an int length: feed at most 1 GiB - 16 per call.
       std::size_t done = 0;
       while (done < n) {
@@ -122,7 +150,7 @@ void bench_openssl(const Options& o) {
         done += m;
       }
     });
-    row("cipher", impl, 1, n, std::size_t(reps), sec, 8.0 * double(n) * reps / sec / 1e9,
+    row("cipher", impl, 1, n, std::size_t(tm.reps), tm, 8.0 * double(n) * tm.reps / 1e9,
         "Gbit/s");
   }
   EVP_CIPHER_CTX_free(ctx);
@@ -160,23 +188,23 @@ void bench_rng(const Options& o) {
 
   {  // Random123's Philox4x32-10 (the reference implementation), 4 doubles per stream and draw.
     std::uint64_t draw = 0;
-    const auto [reps, sec] = time_it(o.min_time, [&] {
+    const Timing tm = time_it(o.min_time, [&] {
       Kokkos::parallel_for("random123_philox", Kokkos::RangePolicy<nacre::ExecSpace>(0, n),
                            Random123Fill{u, seed, draw++});
       Kokkos::fence();
     });
-    row("rng", "random123-philox", threads, 0, numbers * reps, sec, double(numbers) * reps / sec,
+    row("rng", "random123-philox", threads, 0, numbers * tm.reps, tm, double(numbers) * tm.reps,
         "numbers/s");
   }
   for (const char* kind : {"philox", "aes-ctr", "mt-aes"}) {
     auto src = nacre::rng::make_uniform_source(kind, seed);
     std::uint64_t draw = 0;
-    const auto [reps, sec] = time_it(o.min_time, [&] {
+    const Timing tm = time_it(o.min_time, [&] {
       src->fill(draw++, ids, u);
       Kokkos::fence();
     });
-    row("rng", std::string("nacre-") + kind, threads, 0, numbers * reps, sec,
-        double(numbers) * reps / sec, "numbers/s");
+    row("rng", std::string("nacre-") + kind, threads, 0, numbers * tm.reps, tm,
+        double(numbers) * tm.reps, "numbers/s");
   }
 }
 
@@ -206,6 +234,9 @@ int main(int argc, char* argv[]) {
     else if (a.starts_with("--max-size=")) o.max_size = parse_size(val("--max-size="));
     else if (a.starts_with("--min-time=")) o.min_time = std::stod(std::string(val("--min-time=")));
     else if (a.starts_with("--streams=")) o.streams = parse_size(val("--streams="));
+    else if (a.starts_with("--cipher=")) o.cipher = val("--cipher=");
+    else if (a.starts_with("--kind=")) o.kind = val("--kind=");
+    else if (a.starts_with("--rep=")) o.rep = std::stoi(std::string(val("--rep=")));
     else {
       std::fprintf(stderr, "unknown option %s\n", argv[i]);
       return 2;
@@ -215,6 +246,7 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "sizes must be positive multiples of 16 with min <= max\n");
     return 2;
   }
+  g_opt = o;
   int kargc = int(kargs.size());
   Kokkos::ScopeGuard guard(kargc, kargs.data());
   if (o.mode == "nacre") bench_nacre(o);

@@ -78,7 +78,7 @@ if [ -x "$B/perf/nacre_perf_colouring" ]; then
     --colouring tiles,natural,largest-first,balanced,random,kokkos-d1,kokkos-d1-default 2>&1 | tee -a "$LOG"
 fi
 say "AES-128 (nacre bitsliced) and random-number throughput"
-echo "kind,impl,threads,size_bytes,count,seconds,rate,unit" > "$OUT/aes_bench.csv"
+echo "kind,impl,threads,size_bytes,count,seconds,cpu_seconds,rate,rate_per_cpu,unit,rep" > "$OUT/aes_bench.csv"
 timed "$B/perf/nacre_aes_bench" --mode=nacre --max-size="$aes_max" --min-time=0.5 2>>"$LOG" | tee -a "$OUT/aes_bench.csv"
 timed "$B/perf/nacre_aes_bench" --mode=rng --min-time=0.5 2>>"$LOG" | tee -a "$OUT/aes_bench.csv"
 say "dynamics: time per step, UE and BE, against a triad ($dyn_sizes bricks)"

@@ -59,6 +59,8 @@ struct EcbLoad {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n, chunk_blocks * per_block),
                          [&](const int i) { buf[i] = L(0); });
   }
+  /// The chunk starting at block `first`, for the kernel's direct (unstaged) host path.
+  const unsigned char* direct(std::size_t first) const { return in.data() + first * 16; }
 };
 
 /// Sink: contiguous copy of the encrypted chunk from scratch to global memory.
@@ -75,6 +77,8 @@ struct EcbStore {
       store_lane<L>(p + std::size_t(i) * sizeof(L), buf[i], aligned);
     });
   }
+  /// The chunk starting at block `first`, for the kernel's direct (unstaged) host path.
+  unsigned char* direct(std::size_t first) const { return out.data() + first * 16; }
 };
 
 }  // namespace
@@ -118,7 +122,9 @@ std::string aes128_layout_description() {
   using W = typename detail::ExecWord<Space>::type;
   return std::string(bitslice::WordTraits<W>::name) + ", " +
          std::to_string(bitslice::kBlocks<W>) + " blocks/thread, team size " +
-         std::to_string(detail::ExecWord<Space>::team_size);
+         std::to_string(detail::ExecWord<Space>::team_size) + ", transposition " +
+         (bitslice::kGfniTranspose<W> ? "GFNI + vpermt2b (x86)" : "SWAPMOVE (portable)") +
+         (detail::ExecWord<Space>::host && bitslice::kDirectIO<W> ? ", unstaged host I/O" : "");
 }
 
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,

@@ -10,6 +10,24 @@ set(_nacre_aes_env "${NACRE_TEST_ENV};NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 # the default thread count by nacre_add_test and again for 1 and 2 threads explicitly.
 nacre_add_test(test_aes LABELS aes SOURCES aes/test_aes.cpp LIBS OpenSSL::Crypto)
 nacre_add_test(test_aes_sources LABELS aes SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
+# The cipher compiled like src/aes (-march=native): the x86 GFNI transposition where the build
+# machine has it, checked against the portable path and OpenSSL.
+nacre_add_test(test_aes_native LABELS aes SOURCES aes/test_aes_native.cpp LIBS OpenSSL::Crypto)
+if(NACRE_AES_NATIVE AND NACRE_CXX_HAS_MARCH_NATIVE)
+  target_compile_options(test_aes_native PRIVATE -march=native)
+  include(CheckCXXSourceCompiles)
+  set(CMAKE_REQUIRED_FLAGS -march=native)
+  check_cxx_source_compiles("#if !(defined(__GFNI__) && defined(__AVX512BW__) && defined(__AVX512VBMI__))
+#error no GFNI
+#endif
+int main() { return 0; }" NACRE_AES_HAS_GFNI)
+  unset(CMAKE_REQUIRED_FLAGS)
+  if(NACRE_AES_HAS_GFNI)
+    message(STATUS "nacre: AES uses the GFNI transposition (x86 AVX-512 + GFNI); test_aes_native checks it")
+  else()
+    message(STATUS "nacre: no GFNI on this build machine: AES uses the portable transposition")
+  endif()
+endif()
 foreach(_t 1 2)
   catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]" TEST_LIST nacre_test_aes_${_t}t
     EXTRA_ARGS --kokkos-num-threads=${_t})

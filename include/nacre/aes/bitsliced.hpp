@@ -34,6 +34,7 @@
 #include <Kokkos_Core.hpp>
 
 #include <cstdint>
+#include <type_traits>
 
 // Device compilers (and their host passes) get plain integer words only.
 #if defined(__CUDACC__) || defined(__HIPCC__) || defined(__SYCL_DEVICE_ONLY__) || \
@@ -46,6 +47,15 @@
 #define NACRE_AES_HAVE_VECTOR_EXT 1
 #endif
 
+// x86 fast path of the transposition for the 512-bit word (aes/transpose_gfni.hpp): only with
+// AVX-512 F/BW/VBMI + GFNI, never for a device compiler or its host pass. NACRE_AES_NO_GFNI=1
+// forces the portable SWAPMOVE network (used by the tests to compare both).
+#if defined(NACRE_AES_HAVE_VECTOR_EXT) && defined(__x86_64__) && defined(__AVX512F__) && \
+    defined(__AVX512BW__) && defined(__AVX512VBMI__) && defined(__GFNI__) &&            \
+    !defined(NACRE_AES_NO_GFNI) && !defined(__CUDACC__) && !defined(__HIPCC__)
+#define NACRE_AES_GFNI_TRANSPOSE 1
+#endif
+
 // "unroll" for the device passes (and clang); "GCC unroll" for g++. nvcc's host pass is neither:
 // its front end rejects "GCC unroll" (#1675-D) and g++ after it would not know "unroll", so the
 // host side of a CUDA build (the Serial/OpenMP fallback, not the fast path) gets no pragma.
@@ -55,6 +65,10 @@
 #define NACRE_AES_UNROLL _Pragma("GCC unroll 128")
 #else
 #define NACRE_AES_UNROLL
+#endif
+
+#ifdef NACRE_AES_GFNI_TRANSPOSE
+#include <nacre/aes/transpose_gfni.hpp>
 #endif
 
 namespace nacre::aes {
@@ -117,18 +131,18 @@ struct WordTraits<u64x2> {
   static lane get(const u64x2& w, int l) { return w[l]; }
   static void set(u64x2& w, int l, lane v) { w[l] = v; }
   /// Rows of both halves of 2 consecutive blocks: even = low 64 bits, odd = high 64 bits.
-  static void deinterleave(const lane* src, u64x2& even, u64x2& odd) {
+  static void deinterleave(const unsigned char* src, u64x2& even, u64x2& odd) {
     u64x2 v0, v1;
     __builtin_memcpy(&v0, src, sizeof v0);
-    __builtin_memcpy(&v1, src + 2, sizeof v1);
+    __builtin_memcpy(&v1, src + 16, sizeof v1);
     even = __builtin_shufflevector(v0, v1, 0, 2);
     odd = __builtin_shufflevector(v0, v1, 1, 3);
   }
-  static void interleave(const u64x2& even, const u64x2& odd, lane* dst) {
+  static void interleave(const u64x2& even, const u64x2& odd, unsigned char* dst) {
     const u64x2 v0 = __builtin_shufflevector(even, odd, 0, 2);
     const u64x2 v1 = __builtin_shufflevector(even, odd, 1, 3);
     __builtin_memcpy(dst, &v0, sizeof v0);
-    __builtin_memcpy(dst + 2, &v1, sizeof v1);
+    __builtin_memcpy(dst + 16, &v1, sizeof v1);
   }
 };
 template <>
@@ -140,18 +154,18 @@ struct WordTraits<u64x4> {
   static lane get(const u64x4& w, int l) { return w[l]; }
   static void set(u64x4& w, int l, lane v) { w[l] = v; }
   /// Rows of both halves of 4 consecutive blocks: even = low 64 bits, odd = high 64 bits.
-  static void deinterleave(const lane* src, u64x4& even, u64x4& odd) {
+  static void deinterleave(const unsigned char* src, u64x4& even, u64x4& odd) {
     u64x4 v0, v1;
     __builtin_memcpy(&v0, src, sizeof v0);
-    __builtin_memcpy(&v1, src + 4, sizeof v1);
+    __builtin_memcpy(&v1, src + 32, sizeof v1);
     even = __builtin_shufflevector(v0, v1, 0, 2, 4, 6);
     odd = __builtin_shufflevector(v0, v1, 1, 3, 5, 7);
   }
-  static void interleave(const u64x4& even, const u64x4& odd, lane* dst) {
+  static void interleave(const u64x4& even, const u64x4& odd, unsigned char* dst) {
     const u64x4 v0 = __builtin_shufflevector(even, odd, 0, 4, 1, 5);
     const u64x4 v1 = __builtin_shufflevector(even, odd, 2, 6, 3, 7);
     __builtin_memcpy(dst, &v0, sizeof v0);
-    __builtin_memcpy(dst + 4, &v1, sizeof v1);
+    __builtin_memcpy(dst + 32, &v1, sizeof v1);
   }
 };
 template <>
@@ -163,18 +177,18 @@ struct WordTraits<u64x8> {
   static lane get(const u64x8& w, int l) { return w[l]; }
   static void set(u64x8& w, int l, lane v) { w[l] = v; }
   /// Rows of both halves of 8 consecutive blocks: even = low 64 bits, odd = high 64 bits.
-  static void deinterleave(const lane* src, u64x8& even, u64x8& odd) {
+  static void deinterleave(const unsigned char* src, u64x8& even, u64x8& odd) {
     u64x8 v0, v1;
     __builtin_memcpy(&v0, src, sizeof v0);
-    __builtin_memcpy(&v1, src + 8, sizeof v1);
+    __builtin_memcpy(&v1, src + 64, sizeof v1);
     even = __builtin_shufflevector(v0, v1, 0, 2, 4, 6, 8, 10, 12, 14);
     odd = __builtin_shufflevector(v0, v1, 1, 3, 5, 7, 9, 11, 13, 15);
   }
-  static void interleave(const u64x8& even, const u64x8& odd, lane* dst) {
+  static void interleave(const u64x8& even, const u64x8& odd, unsigned char* dst) {
     const u64x8 v0 = __builtin_shufflevector(even, odd, 0, 8, 1, 9, 2, 10, 3, 11);
     const u64x8 v1 = __builtin_shufflevector(even, odd, 4, 12, 5, 13, 6, 14, 7, 15);
     __builtin_memcpy(dst, &v0, sizeof v0);
-    __builtin_memcpy(dst + 8, &v1, sizeof v1);
+    __builtin_memcpy(dst + 64, &v1, sizeof v1);
   }
 };
 #endif
@@ -473,7 +487,9 @@ KOKKOS_INLINE_FUNCTION void load_state(const typename WordTraits<W>::lane* block
     // SIMD words: the `lanes` blocks of row j are 2*lanes consecutive 64-bit lanes; two vector
     // loads and two shuffles give row j of both halves.
     NACRE_AES_UNROLL
-    for (int j = 0; j < n; ++j) T::deinterleave(blocks + 2 * T::lanes * j, st[j], st[n + j]);
+    for (int j = 0; j < n; ++j)
+      T::deinterleave(reinterpret_cast<const unsigned char*>(blocks) + 16 * T::lanes * j, st[j],
+                      st[n + j]);
     transpose(st);
     transpose(st + n);
   } else {
@@ -498,7 +514,8 @@ KOKKOS_INLINE_FUNCTION void store_state(W* st, typename WordTraits<W>::lane* blo
     transpose(st);
     transpose(st + n);
     NACRE_AES_UNROLL
-    for (int j = 0; j < n; ++j) T::interleave(st[j], st[n + j], blocks + 2 * T::lanes * j);
+    for (int j = 0; j < n; ++j)
+      T::interleave(st[j], st[n + j], reinterpret_cast<unsigned char*>(blocks) + 16 * T::lanes * j);
   } else {
     NACRE_AES_UNROLL
     for (int p = 0; p < P; ++p) {
@@ -577,31 +594,155 @@ KOKKOS_INLINE_FUNCTION void shift_add(const W* in, W* out,
     }
 }
 
+/// \brief out = SubBytes(in ^ round key m) (the first round's AddRoundKey and S-boxes, one
+/// pass: each byte's 8 words are loaded, keyed, substituted and stored once).
+template <class W>
+KOKKOS_INLINE_FUNCTION void add_sub(const W* in, W* out, const typename WordTraits<W>::lane* m) {
+  NACRE_AES_UNROLL
+  for (int p = 0; p < 16; ++p) {
+    W q[8];
+    NACRE_AES_UNROLL
+    for (int i = 0; i < 8; ++i) q[i] = in[8 * p + i] ^ m[8 * p + i];
+    sbox(q);
+    NACRE_AES_UNROLL
+    for (int i = 0; i < 8; ++i) out[8 * p + i] = q[i];
+  }
+}
+
+/// \brief out = SubBytes(MixColumns(ShiftRows(in)) ^ round key m): the linear layer of one
+/// round fused with the S-boxes of the next, so the state makes one trip through memory per
+/// round (the 128 words do not fit the registers). ShiftRows is folded into the indices: output
+/// column c row r reads input byte (r, c + r mod 4). With t = a0^a1^a2^a3 and
+/// d = a_r ^ a_{r+1}, MixColumns gives b_r = a_r ^ t ^ xtime(d), xtime(d) = (d7, d0^d7, d1,
+/// d2^d7, d3^d7, d4, d5, d6) (bit 0 first; multiplication by x modulo x^8+x^4+x^3+x+1).
+template <class W>
+KOKKOS_INLINE_FUNCTION void mix_add_sub(const W* in, W* out,
+                                        const typename WordTraits<W>::lane* m) {
+  NACRE_AES_UNROLL
+  for (int c = 0; c < 4; ++c) {
+    const W* a[4] = {in + 8 * (0 + 4 * ((c + 0) & 3)), in + 8 * (1 + 4 * ((c + 1) & 3)),
+                     in + 8 * (2 + 4 * ((c + 2) & 3)), in + 8 * (3 + 4 * ((c + 3) & 3))};
+    W t[8];
+    NACRE_AES_UNROLL
+    for (int i = 0; i < 8; ++i) t[i] = a[0][i] ^ a[1][i] ^ a[2][i] ^ a[3][i];
+    NACRE_AES_UNROLL
+    for (int r = 0; r < 4; ++r) {
+      const W* x = a[r];
+      const W* y = a[(r + 1) & 3];
+      const typename WordTraits<W>::lane* mk = m + 8 * (r + 4 * c);
+      const W d7 = x[7] ^ y[7];
+      W q[8];
+      q[0] = x[0] ^ t[0] ^ d7 ^ mk[0];
+      q[1] = x[1] ^ t[1] ^ (x[0] ^ y[0]) ^ d7 ^ mk[1];
+      q[2] = x[2] ^ t[2] ^ (x[1] ^ y[1]) ^ mk[2];
+      q[3] = x[3] ^ t[3] ^ (x[2] ^ y[2]) ^ d7 ^ mk[3];
+      q[4] = x[4] ^ t[4] ^ (x[3] ^ y[3]) ^ d7 ^ mk[4];
+      q[5] = x[5] ^ t[5] ^ (x[4] ^ y[4]) ^ mk[5];
+      q[6] = x[6] ^ t[6] ^ (x[5] ^ y[5]) ^ mk[6];
+      q[7] = x[7] ^ t[7] ^ (x[6] ^ y[6]) ^ mk[7];
+      sbox(q);
+      W* o = out + 8 * (r + 4 * c);
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) o[i] = q[i];
+    }
+  }
+}
+
 /// \brief AES-128 on a bitsliced state: a (in/out) and b (scratch) are 128 words each; masks
-/// are the 11*128 round-key masks (round_key_masks).
+/// are the 11*128 round-key masks (round_key_masks). Eleven passes over the state: S(a ^ k0), nine
+/// times S(MixColumns(ShiftRows(.)) ^ k_r), and the final ShiftRows(.) ^ k10.
 template <class W>
 KOKKOS_INLINE_FUNCTION void encrypt_state(W* a, W* b, const typename WordTraits<W>::lane* masks) {
-  add_round_key(a, masks);
+  add_sub(a, a, masks);  // in place: each byte reads and writes its own 8 words
   for (int r = 1; r < 9; r += 2) {
-    sub_bytes(a);
-    shift_mix_add(a, b, masks + 128 * r);
-    sub_bytes(b);
-    shift_mix_add(b, a, masks + 128 * (r + 1));
+    mix_add_sub(a, b, masks + 128 * r);
+    mix_add_sub(b, a, masks + 128 * (r + 1));
   }
-  sub_bytes(a);
-  shift_mix_add(a, b, masks + 128 * 9);
-  sub_bytes(b);
+  mix_add_sub(a, b, masks + 128 * 9);
   shift_add(b, a, masks + 128 * 10);
+}
+
+/// \brief True where the word has the x86 GFNI transposition (aes/transpose_gfni.hpp).
+template <class W>
+inline constexpr bool kGfniTranspose =
+#ifdef NACRE_AES_GFNI_TRANSPOSE
+    std::is_same_v<W, u64x8>;
+#else
+    false;
+#endif
+
+/// \brief True where encrypt_blocks_io can read and write the blocks at any byte address (SIMD
+/// host words): the kernel then skips its staging copies.
+template <class W>
+inline constexpr bool kDirectIO = (WordTraits<W>::lanes > 1);
+
+/// \brief Encrypt kBlocks<W> blocks from in to out (16 * kBlocks<W> bytes each, any alignment,
+/// identical or disjoint): SIMD host words only (kDirectIO<W>).
+template <class W>
+inline void encrypt_blocks_io(const typename WordTraits<W>::lane* masks, const unsigned char* in,
+                              unsigned char* out) {
+  static_assert(kDirectIO<W>, "encrypt_blocks_io needs a SIMD host word");
+  alignas(64) W a[128];
+  alignas(64) W b[128];
+#ifdef NACRE_AES_GFNI_TRANSPOSE
+  if constexpr (kGfniTranspose<W>) {
+    // The first round's AddRoundKey + S-boxes run on each byte's 8 words as the transposition's
+    // second pass produces them, and the last round's ShiftRows + AddRoundKey as the inverse
+    // pass consumes them: no separate trips through memory for either.
+    __m512i* ta = reinterpret_cast<__m512i*>(a);
+    __m512i* tb = reinterpret_cast<__m512i*>(b);
+    const gfni::Indices ix = gfni::indices();
+    gfni::load_pass1(in, tb);
+    NACRE_AES_UNROLL
+    for (int p = 0; p < 16; ++p) {
+      __m512i w[8];
+      gfni::load_pass2(tb, p, w, ix);
+      W q[8];
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) q[i] = W(w[i]) ^ masks[8 * p + i];
+      sbox(q);
+      NACRE_AES_UNROLL
+      for (int i = 0; i < 8; ++i) a[8 * p + i] = q[i];
+    }
+    for (int r = 1; r < 9; r += 2) {
+      mix_add_sub(a, b, masks + 128 * r);
+      mix_add_sub(b, a, masks + 128 * (r + 1));
+    }
+    mix_add_sub(a, b, masks + 128 * 9);
+    const typename WordTraits<W>::lane* m10 = masks + 128 * 10;
+    NACRE_AES_UNROLL
+    for (int c = 0; c < 4; ++c)
+      NACRE_AES_UNROLL
+      for (int r = 0; r < 4; ++r) {  // ShiftRows: output (r, c) reads byte (r, c + r mod 4)
+        const int p = r + 4 * c;
+        const W* x = b + 8 * (r + 4 * ((c + r) & 3));
+        __m512i w[8];
+        NACRE_AES_UNROLL
+        for (int i = 0; i < 8; ++i) w[i] = __m512i(x[i] ^ m10[8 * p + i]);
+        gfni::store_pass2(w, p, ta, ix);
+      }
+    gfni::store_pass1(ta, out);
+    return;
+  }
+#endif
+  load_state(reinterpret_cast<const typename WordTraits<W>::lane*>(in), a);
+  encrypt_state(a, b, masks);
+  store_state(a, reinterpret_cast<typename WordTraits<W>::lane*>(out));
 }
 
 /// \brief Encrypt kBlocks<W> blocks in place (lanes little-endian, block b = blocks[b*P ..]).
 template <class W>
 KOKKOS_INLINE_FUNCTION void encrypt_blocks(const typename WordTraits<W>::lane* masks,
                                            typename WordTraits<W>::lane* blocks) {
-  W a[128], b[128];
-  load_state(blocks, a);
-  encrypt_state(a, b, masks);
-  store_state(a, blocks);
+  if constexpr (kGfniTranspose<W>) {
+    encrypt_blocks_io<W>(masks, reinterpret_cast<const unsigned char*>(blocks),
+                         reinterpret_cast<unsigned char*>(blocks));
+  } else {
+    W a[128], b[128];
+    load_state(blocks, a);
+    encrypt_state(a, b, masks);
+    store_state(a, blocks);
+  }
 }
 
 }  // namespace bitslice

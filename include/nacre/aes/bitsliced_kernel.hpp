@@ -32,6 +32,14 @@ struct ExecWord {
   static constexpr int team_size = host ? 1 : 64;
 };
 
+/// \brief Sources and sinks that are plain host memory say so with direct(first_block) (a byte
+/// pointer to the chunk): with a SIMD host word and one thread per team the kernel then encrypts
+/// full chunks straight from the input to the output, without the scratch copies.
+template <class T, class = void>
+struct has_direct : std::false_type {};
+template <class T>
+struct has_direct<T, std::void_t<decltype(&T::direct)>> : std::true_type {};
+
 template <class ExecSpace>
 using exec_lane_t = typename bitslice::WordTraits<typename ExecWord<ExecSpace>::type>::lane;
 
@@ -67,6 +75,13 @@ struct BitslicedTeamKernel {
       const std::size_t first = chunk * std::size_t(chunk_blocks);
       const std::size_t left = nblocks - first;
       const int nb = left < std::size_t(chunk_blocks) ? int(left) : chunk_blocks;
+      if constexpr (ExecWord<ExecSpace>::host && bitslice::kDirectIO<Word> &&
+                    has_direct<Source>::value && has_direct<Sink>::value) {
+        if (team_size == 1 && nb == chunk_blocks) {  // public: sizes only
+          bitslice::encrypt_blocks_io<Word>(smask, src.direct(first), sink.direct(first));
+          continue;
+        }
+      }
       src(team, first, nb, chunk_blocks, sbuf);
       team.team_barrier();
       if (team.team_rank() * kB < nb) {  // public: skip threads holding only padding
