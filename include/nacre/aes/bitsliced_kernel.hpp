@@ -71,13 +71,26 @@ struct BitslicedTeamKernel {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, bitslice::kMaskCount),
                          [&](const int i) { smask[i] = masks(i); });
     team.team_barrier();
-    for (std::size_t chunk = team.league_rank(); chunk < nchunks; chunk += team.league_size()) {
+    // Each team takes a contiguous range of chunks, so a CPU thread streams through memory in
+    // order (the hardware prefetchers follow it; a stride of league_size chunks defeated them).
+    const std::size_t per_team = (nchunks + std::size_t(team.league_size()) - 1) /
+                                 std::size_t(team.league_size());
+    const std::size_t c_begin = std::size_t(team.league_rank()) * per_team;
+    const std::size_t c_end = c_begin + per_team < nchunks ? c_begin + per_team : nchunks;
+    for (std::size_t chunk = c_begin; chunk < c_end; ++chunk) {
       const std::size_t first = chunk * std::size_t(chunk_blocks);
       const std::size_t left = nblocks - first;
       const int nb = left < std::size_t(chunk_blocks) ? int(left) : chunk_blocks;
       if constexpr (ExecWord<ExecSpace>::host && bitslice::kDirectIO<Word> &&
                     has_direct<Source>::value && has_direct<Sink>::value) {
         if (team_size == 1 && nb == chunk_blocks) {  // public: sizes only
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__) && !defined(__HIPCC__)
+          if (chunk + 1 < c_end) {  // the next chunk's input towards L2 while this one runs
+            const unsigned char* next = src.direct(first + std::size_t(chunk_blocks));
+            for (int line = 0; line < chunk_blocks * 16; line += 64)
+              __builtin_prefetch(next + line, 0, 2);
+          }
+#endif
           bitslice::encrypt_blocks_io<Word>(smask, src.direct(first), sink.direct(first));
           continue;
         }
