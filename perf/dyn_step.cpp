@@ -1,9 +1,12 @@
 // Time per step of the explicit dynamics (UE, BE) against the number of bricks, set against the
-// memory-bandwidth bound measured in the same run: bytes moved per step are counted from the
-// model's array sizes (every model view read once, the state arrays u, v, a, acc read and written
-// once: Simulation::bytes() minus the replay copy plus the write), and a Kokkos STREAM triad
-// a = b + s c gives the attainable bandwidth on the same threads. Also bytes per brick with and
-// without shared element matrices.
+// memory-bandwidth bound measured in the same run: bytes a step must move at least are counted
+// from the model's array sizes (Simulation::step_bytes: every model view read once, the state
+// arrays u, v, a, acc read and written once; not the interface force rows, BIE's p_n / v_n or
+// the roll-back copy, which a step need not stream), and a Kokkos STREAM triad a = b + s c gives
+// the attainable bandwidth on the same threads. Wall and CPU time (process CPU time / threads:
+// robust to other processes on a shared machine; the triad is timed the same way). Also bytes
+// per brick with and without shared element matrices. The column bytes_per_step_held is the
+// previous count (all bytes held, incl. the interface force rows and the roll-back copy).
 //
 //   nacre_perf_dyn_step --bricks 10000,50000,100000 --methods ue,be --steps 200 --csv FILE
 //
@@ -33,6 +36,12 @@ using clock_type = std::chrono::steady_clock;
 double seconds_since(clock_type::time_point t0) {
   return std::chrono::duration<double>(clock_type::now() - t0).count();
 }
+/// CPU time of the process (all threads), s.
+double process_cpu() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 /// Specimen of ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending.
 deck::Deck deck_for(long bricks, double ratio) {
@@ -57,8 +66,9 @@ dyn::Params params_for(const deck::Deck& d, dyn::Method m) {
   return p;
 }
 
-/// Best-of-`reps` STREAM triad bandwidth (bytes/s, 3 arrays of n doubles counted) on `space`.
-double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n, int reps) {
+/// Best-of-`reps` STREAM triad bandwidth (bytes/s, 3 arrays of n doubles counted) on `space`,
+/// by wall time and by process CPU time / threads (cpu_bw).
+double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n, int reps, double& cpu_bw) {
   using V = Kokkos::View<double*, Kokkos::DefaultExecutionSpace::memory_space>;
   V a(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_a"), n);
   V b(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_b"), n);
@@ -68,14 +78,17 @@ double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n
     a(i) = 0, b(i) = 1.0 + 1e-9 * static_cast<double>(i), c(i) = 2.0;
   });
   space.fence();
-  double best = 1e300;
+  double best = 1e300, best_cpu = 1e300;
   const double s = 0.5;
   for (int r = 0; r < reps; ++r) {
     const auto t0 = clock_type::now();
+    const double c0 = process_cpu();
     Kokkos::parallel_for("nacre::perf::triad", range, KOKKOS_LAMBDA(std::size_t i) { a(i) = b(i) + s * c(i); });
     space.fence();
     best = std::min(best, seconds_since(t0));
+    best_cpu = std::min(best_cpu, (process_cpu() - c0) / space.concurrency());
   }
+  cpu_bw = 3.0 * 8.0 * static_cast<double>(n) / best_cpu;
   return 3.0 * 8.0 * static_cast<double>(n) / best;
 }
 
@@ -119,14 +132,16 @@ int main(int argc, char* argv[]) {
 
   const Kokkos::DefaultExecutionSpace space;
   const int threads = space.concurrency();
-  const double triad = triad_bandwidth(space, triad_n, 10);
-  std::cout << "[dyn_step] " << threads << " threads: triad " << triad / 1e9 << " GB/s (" << triad_n
-            << " doubles per array)\n";
+  double triad_cpu = 0;
+  const double triad = triad_bandwidth(space, triad_n, 10, triad_cpu);
+  std::cout << "[dyn_step] " << threads << " threads: triad " << triad / 1e9 << " GB/s wall, " << triad_cpu / 1e9
+            << " GB/s CPU time (" << triad_n << " doubles per array)\n";
   const bool header = !std::ifstream(csv).good();
   std::ofstream out(csv, std::ios::app);
   if (header)
     out << "method,bricks,threads,element_types,steps,seconds_per_step,bytes_per_step,state_bytes,device_bytes,"
-           "bytes_per_brick,bytes_per_brick_unshared,effective_bandwidth,triad_bandwidth,bound_ratio,dt\n";
+           "bytes_per_brick,bytes_per_brick_unshared,effective_bandwidth,triad_bandwidth,bound_ratio,dt,"
+           "cpu_seconds_per_step,triad_bandwidth_cpu,bound_ratio_cpu,bytes_per_step_held\n";
   // a stable step per method from a small specimen of the same bricks (the critical step is local)
   std::map<std::string, double> dt;
   for (const auto& mname : methods) {
@@ -158,13 +173,15 @@ int main(int argc, char* argv[]) {
         std::cerr << "[dyn_step] " << mname << " " << n << ": unstable warm-up: " << sim.why() << "\n";
         return 1;
       }
-      double best = 1e300;
+      double best = 1e300, best_cpu = 1e300;
       for (int b = 0; b < blocks; ++b) {
         space.fence();
         const auto t0 = clock_type::now();
+        const double c0 = process_cpu();
         const bool ok = sim.advance(space, steps);
         space.fence();
         const double t = seconds_since(t0) / static_cast<double>(steps);
+        best_cpu = std::min(best_cpu, (process_cpu() - c0) / static_cast<double>(steps) / threads);
         if (!ok) {
           std::cerr << "[dyn_step] " << mname << " " << n << ": unstable: " << sim.why() << "\n";
           return 1;
@@ -172,15 +189,14 @@ int main(int argc, char* argv[]) {
         best = std::min(best, t);
       }
       const std::size_t held = sim.bytes(), st = state_bytes(sim.save_state());
-      // held = model views + state + the replay copy of the state; a step reads the model once
-      // and reads and writes the state once: moved = (held - 2 st) + 2 st = held
-      const double moved = static_cast<double>(held - 2 * st) + 2.0 * static_cast<double>(st);
+      const double moved = static_cast<double>(sim.step_bytes());  // the least a step must stream
       const double eff = moved / best;
+      const double bound_cpu = best_cpu / (moved / triad_cpu);
       const double nb = static_cast<double>(sim.bricks());
       out << mname << "," << sim.bricks() << "," << threads << "," << sim.element_types() << "," << steps << ","
           << best << "," << moved << "," << st << "," << held << "," << static_cast<double>(held) / nb << ","
           << static_cast<double>(unshared) / nb << "," << eff << "," << triad << "," << triad / eff << "," << p.dt
-          << "\n";
+          << "," << best_cpu << "," << triad_cpu << "," << bound_cpu << "," << held << "\n";
       out.flush();
       if (!profile_csv.empty()) {
         const bool ph = !std::ifstream(profile_csv).good();
@@ -210,7 +226,8 @@ int main(int argc, char* argv[]) {
       }
       std::cout << "[dyn_step] " << mname << " " << sim.bricks() << " bricks, " << threads << " threads: "
                 << best * 1e3 << " ms/step, " << moved / 1e6 << " MB/step, " << eff / 1e9 << " GB/s = triad / "
-                << triad / eff << "; " << static_cast<double>(held) / nb << " B/brick shared, "
+                << triad / eff << "; CPU " << best_cpu * 1e3 << " ms/step = bound x " << bound_cpu << "; "
+                << moved / nb << " B/brick moved, " << static_cast<double>(held) / nb << " B/brick held shared, "
                 << static_cast<double>(unshared) / nb << " unshared\n";
     }
   }

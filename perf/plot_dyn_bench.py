@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Chart and summary of perf/run_dyn_bench.sh: time per step vs bricks (UE, BE, 1 and 2 threads)
 and each run's effective bandwidth (bytes moved per step / time per step) against the triad
-bandwidth measured in the same process. Usage: plot_dyn_bench.py OUTDIR"""
+bandwidth measured in the same process, by wall time and by CPU time (process CPU time / threads,
+robust to other processes on a shared machine; the triad timed the same way).
+Usage: plot_dyn_bench.py OUTDIR"""
 import csv
 import json
 import os
@@ -17,7 +19,7 @@ for r in rows:
     for k in r:
         if k != "method":
             r[k] = float(r[k])
-summary = {"rows": rows, "bound_ratio_be": {}, "two_thread_speedup": {}}
+summary = {"rows": rows, "bound_ratio_be": {}, "bound_ratio_be_cpu": {}, "two_thread_speedup": {}}
 fig, ax = plt.subplots(1, 3, figsize=(16, 4.5))
 for m in sorted({r["method"] for r in rows}):
     for nt in sorted({r["threads"] for r in rows}):
@@ -26,9 +28,10 @@ for m in sorted({r["method"] for r in rows}):
             continue
         b = [r["bricks"] for r in sel]
         ax[0].loglog(b, [r["seconds_per_step"] * 1e3 for r in sel], "o-", label=f"{m.upper()} {int(nt)} thread(s)")
-        ax[1].semilogx(b, [r["bound_ratio"] for r in sel], "o-", label=f"{m.upper()} {int(nt)} thread(s)")
+        ax[1].semilogx(b, [r["bound_ratio_cpu"] for r in sel], "o-", label=f"{m.upper()} {int(nt)} thread(s)")
         if m == "be":
             summary["bound_ratio_be"][f"{int(nt)}t"] = {int(r["bricks"]): r["bound_ratio"] for r in sel}
+            summary["bound_ratio_be_cpu"][f"{int(nt)}t"] = {int(r["bricks"]): r["bound_ratio_cpu"] for r in sel}
     for r1 in (r for r in rows if r["method"] == m and r["threads"] == 1):
         r2 = [r for r in rows if r["method"] == m and r["threads"] == 2 and r["bricks"] == r1["bricks"]]
         if r2:
@@ -41,7 +44,7 @@ ax[0].set_title("time per step")
 ax[1].axhline(2.0, color="gray", ls="--", label="target: 2x the bound")
 ax[1].axhline(1.0, color="black", lw=0.6)
 ax[1].set_xlabel("bricks")
-ax[1].set_ylabel("time per step / (bytes per step / triad bandwidth)")
+ax[1].set_ylabel("CPU time per step / (bytes per step / triad bandwidth)")
 ax[1].set_title("distance from the memory-bandwidth bound")
 ax[1].legend(fontsize=8)
 ms = sorted({r["method"] for r in rows})
@@ -58,7 +61,9 @@ for rb in (r for r in rows if r["method"] == "bie"):
     if re_:
         summary.setdefault("bie_over_be_speed", {}).setdefault(f"{int(rb['threads'])}t", {})[int(rb["bricks"])] = {
             "step_ratio": rb["dt"] / re_[0]["dt"], "cost_ratio": rb["seconds_per_step"] / re_[0]["seconds_per_step"],
-            "speedup": (rb["dt"] / rb["seconds_per_step"]) / (re_[0]["dt"] / re_[0]["seconds_per_step"])}
+            "speedup": (rb["dt"] / rb["seconds_per_step"]) / (re_[0]["dt"] / re_[0]["seconds_per_step"]),
+            "cost_ratio_cpu": rb["cpu_seconds_per_step"] / re_[0]["cpu_seconds_per_step"],
+            "speedup_cpu": (rb["dt"] / rb["cpu_seconds_per_step"]) / (re_[0]["dt"] / re_[0]["cpu_seconds_per_step"])}
 prof = os.path.join(out, "dyn_step_profile.csv")
 if os.path.exists(prof):
     kern = {}

@@ -6,6 +6,9 @@
 # Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block NACRE_DYN_STEPS, blocks
 # NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie); pass them with env:
 # devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
+# Thread counts NACRE_DYN_THREADS (default "1 2"). NACRE_DYN_NATIVE=1 builds and runs the
+# -march=native build of the kernels instead (build/native, CMake option NACRE_DYN_NATIVE=ON;
+# numbers not bit-for-bit those of the default build; report it as a separate row).
 # Writes OUTDIR/{dyn_step.csv, dyn_step_profile.csv (ms per step per kernel, one extra block per
 # run with the Kokkos tool callbacks), dyn_step.json, dyn_step.png, machine.txt}.
 set -euo pipefail
@@ -13,13 +16,20 @@ cd "$(dirname "$0")/.."
 out="${1:-perf/results/dyn_step}"
 mkdir -p "$out"
 echo "[perf] building (preset openmp)"
-cmake --preset openmp >/dev/null && cmake --build build/openmp -j2 --target nacre_perf_dyn_step >/dev/null
+bdir=build/openmp
+if [ "${NACRE_DYN_NATIVE:-0}" = 1 ]; then
+  bdir=build/native
+  cmake --preset openmp -B "$bdir" -DNACRE_DYN_NATIVE=ON -DNACRE_ENABLE_TESTS=OFF >/dev/null
+else
+  cmake --preset openmp >/dev/null
+fi
+cmake --build "$bdir" -j2 --target nacre_perf_dyn_step >/dev/null
 export OMP_PROC_BIND=spread OMP_PLACES=threads
 rm -f "$out/dyn_step.csv" "$out/dyn_step_profile.csv"
-echo "$(date -u +%FT%TZ) start: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores" > "$out/machine.txt"
-for nt in 1 2; do
+echo "$(date -u +%FT%TZ) start: load average $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores, build $bdir" > "$out/machine.txt"
+for nt in ${NACRE_DYN_THREADS:-1 2}; do
   echo "[perf] time per step, $nt thread(s)"
-  build/openmp/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
+  "$bdir"/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
     --methods "${NACRE_DYN_METHODS:-ue,be,bie}" --steps "${NACRE_DYN_STEPS:-100}" --blocks "${NACRE_DYN_BLOCKS:-3}" \
     --csv "$out/dyn_step.csv" --profile-csv "$out/dyn_step_profile.csv" --kokkos-num-threads=$nt
 done

@@ -23,3 +23,12 @@ endif()
 # Raw generator output for dieharder (-g 200 reads raw binary on stdin).
 add_executable(nacre_rng_stream ${CMAKE_CURRENT_LIST_DIR}/rng_stream.cpp)
 target_link_libraries(nacre_rng_stream PRIVATE nacre_lib nacre_warnings)
+
+# The bare cipher core on one thread (no Kokkos kernel): build path vs portable transposition and
+# the phases, per CPU second. Compiled like src/aes (-march=native under NACRE_AES_NATIVE).
+add_executable(nacre_aes_core_bench ${CMAKE_CURRENT_LIST_DIR}/aes_core_bench.cpp)
+target_link_libraries(nacre_aes_core_bench PRIVATE Kokkos::kokkos nacre_warnings)
+target_include_directories(nacre_aes_core_bench PRIVATE ${PROJECT_SOURCE_DIR}/include)
+if(NACRE_AES_NATIVE AND NACRE_CXX_HAS_MARCH_NATIVE)
+  target_compile_options(nacre_aes_core_bench PRIVATE -march=native)
+endif()

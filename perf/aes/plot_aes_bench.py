@@ -102,6 +102,17 @@ def main():
     md += ["", "| generator | threads | random doubles / s (wall) | per CPU second |", "|---|---|---|---|"]
     for s in rng_summary:
         md.append(f"| {s['impl']} | {s['threads']} | {s['numbers_per_s']:.3g} | {s['numbers_per_cpu_s']:.3g} |")
+    core_csv = out / "aes_core.csv"
+    if core_csv.exists():
+        core = list(csv.DictReader(open(core_csv)))
+        names = list(dict.fromkeys(r["what"] for r in core))
+        md += ["", "Bare cipher core, one thread, 512 blocks per chunk, L2-resident (nacre_aes_core_bench):", "",
+               "| what | ns per 512 blocks (median) | Gbit/s per CPU second (median, min - max) |", "|---|---|---|"]
+        for n in names:
+            rs = [r for r in core if r["what"] == n]
+            g = [float(r["gbit_per_cpu_s"]) for r in rs]
+            md.append(f"| {n} | {statistics.median(float(r['ns_per_chunk']) for r in rs):.0f} | "
+                      f"{statistics.median(g):.2f} ({min(g):.2f} - {max(g):.2f}) |")
     md += ["", "machine: " + "; ".join(f"{k}: {v}" for k, v in machine.items())]
     (out / "aes_bench.md").write_text("\n".join(md) + "\n")
     print("\n".join(md))

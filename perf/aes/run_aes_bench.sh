@@ -14,12 +14,14 @@
 #      variants in-process, and `openssl speed -evp` (16 KiB blocks) for the same three; the
 #      summary takes per-round ratios (nacre / OpenSSL in the same round) and their median, so
 #      the machine's other users move numerator and denominator together;
-#   3. random doubles per second: Random123 Philox4x32-10, nacre's philox, aes-ctr and mt-aes
+#   3. the bare cipher core (nacre_aes_core_bench, one thread, no Kokkos kernel, L2-resident):
+#      the build's path against the portable transposition, and the phases, --reps rounds;
+#   4. random doubles per second: Random123 Philox4x32-10, nacre's philox, aes-ctr and mt-aes
 #      sources (4 doubles per stream and draw, 2^20 streams), 1 and 2 threads.
 # Rates are per wall second and per CPU second of the process (columns rate, rate_per_cpu);
 # OpenMP threads wait passively (OMP_WAIT_POLICY=passive). machine.txt records the load average.
-# Writes OUTDIR/aes_bench.csv, aes_bench.json, aes_bench.md, aes_bench.log, machine.txt and the
-# chart aes_bench.png.
+# Writes OUTDIR/aes_bench.csv, aes_core.csv, aes_bench.json, aes_bench.md, aes_bench.log,
+# machine.txt and the chart aes_bench.png.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
@@ -36,7 +38,7 @@ while [ $# -gt 1 ]; do
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
-[ $# -eq 1 ] || { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -eq 1 ] || { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 OUT="$1"; mkdir -p "$OUT"
 if [ -x "$BUILD/perf/nacre_aes_bench" ]; then BENCH="$BUILD/perf/nacre_aes_bench";
 elif [ -x "$BUILD/nacre_aes_bench" ]; then BENCH="$BUILD/nacre_aes_bench";
@@ -86,7 +88,14 @@ for rep in $(seq 1 "$REPS"); do
   speed speed-aesni-ecb aes-128-ecb "$rep"
 done
 
-# 3. Random-number generators.
+# 3. The bare cipher core on one thread (no kernel): build path, portable transposition, phases.
+CORE="$(dirname "$BENCH")/nacre_aes_core_bench"
+if [ -x "$CORE" ]; then
+  echo "+ $CORE --rounds=$REPS" >>"$LOG"
+  "$CORE" --rounds="$REPS" 2>>"$LOG" >"$OUT/aes_core.csv"
+fi
+
+# 4. Random-number generators.
 run "$BENCH" --mode=rng --min-time="$MINT" --kokkos-num-threads=1
 run "$BENCH" --mode=rng --min-time="$MINT" --kokkos-num-threads=2
 {

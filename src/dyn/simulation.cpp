@@ -390,6 +390,13 @@ std::size_t Simulation::bytes() const {
   if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
   return b;
 }
+std::size_t Simulation::step_bytes() const {
+  auto& I = *impl_;
+  std::size_t st = (I.u.span() + I.v.span() + I.a.span() + I.acc.span()) * sizeof(double);
+  std::size_t b = model_bytes(I.m) + 2 * st;
+  if (I.is_bie()) b += I.bie.Jinv.span() * sizeof(double);  // the shared J^-1 (a few KB)
+  return b;
+}
 double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->bie.max_condition : 0.0; }
 double Simulation::bie_residual() const {
   auto& I = *impl_;

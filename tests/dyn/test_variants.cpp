@@ -91,6 +91,25 @@ TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_g
         CHECK(v == b.at(k));
       }
     }
+  // the other fused kernels: more iterations (BieIterTileTag before the fused last one) and the
+  // force re-evaluated at x_{n+1} (BieIterTileTag + BieFinalTileTag, no fused end)
+  for (int mode : {0, 1}) {
+    auto p = cracking(dyn::Method::bie, true, false);
+    p.bie_solve = dyn::BieSolve::shared_gemm;
+    p.dt = 4 * estimate(p, st);
+    if (mode == 0) p.bie_iterations = 3;
+    else p.bie_reuse_force = false;
+    int r0 = 0, r1 = 0;
+    const auto a = run(p, st, dyn::ElementApply::per_element, 400, r0);
+    const auto b = run(p, st, dyn::ElementApply::tiled, 400, r1);
+    INFO("mode " << mode << " ruptured " << r0);
+    CHECK(r0 > 0);
+    CHECK(r0 == r1);
+    for (const auto& [k, v] : a) {
+      INFO("array " << k);
+      CHECK(v == b.at(k));
+    }
+  }
   // the fused path keeps no residual block: fewer bytes
   auto p = cracking(dyn::Method::bie, false, false);
   p.dt = 4 * estimate(p, st);

@@ -25,6 +25,10 @@
 ///   (each work item copies its input to registers/stack before writing): row, reordered<NB>,
 ///   batched (KokkosBatched::SerialGemv), shared_gemm (tiles of kTile slots x kRowBlock rows of
 ///   accumulators, the matrix broadcast from L1).
+/// - The fused tiled step (shared_gemm with the tiled element apply) is three passes per step with
+///   the defaults (two iterations, force kept): start + first J^-1 apply, the interface force at
+///   x_1, then the second iteration and the end of the step in one pass (BieIterFinalTileTag: both
+///   use the force at x_1, so one gather and one load/store of the state serve both).
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
@@ -80,6 +84,7 @@ struct BieFinalTag {};
 struct BieStartTileTag {};
 struct BieIterTileTag {};
 struct BieFinalTileTag {};
+struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
 /// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
@@ -213,14 +218,13 @@ struct BieIntegrator {
     }
   }
 
-  /// a(x) of the current iterate for the tile's lanes (as accel); also loads u and v.
-  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*KOKKOS_RESTRICT u)[kTile],
-                                         double (*KOKKOS_RESTRICT v)[kTile], double (*KOKKOS_RESTRICT ax)[kTile]) const {
+  /// Loads of a tile: f = gathered interface force + Theta + F_p, u and v (padded lanes zero).
+  KOKKOS_INLINE_FUNCTION void tile_load(int t, int k0, int nb, double (*KOKKOS_RESTRICT f)[kTile],
+                                        double (*KOKKOS_RESTRICT u)[kTile], double (*KOKKOS_RESTRICT v)[kTile]) const {
     const int nd = ex.nd;
-    double f[kMaxDof][kTile], w[kMaxDof][kTile], kw[kMaxDof][kTile];
     for (int b = 0; b < kTile; ++b) {
       if (b >= nb) {
-        for (int j = 0; j < nd; ++j) u[j][b] = v[j][b] = f[j][b] = w[j][b] = 0;
+        for (int j = 0; j < nd; ++j) u[j][b] = v[j][b] = f[j][b] = 0;
         continue;
       }
       const int e = ex.tile_elem(k0 + b);
@@ -229,13 +233,92 @@ struct BieIntegrator {
       for (int j = 0; j < nd; ++j) {
         f[j][b] = fi[j] + (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0));  // as accel's f += ...
         u[j][b] = ex.u(e, j), v[j][b] = ex.v(e, j);
-        w[j][b] = u[j][b] + ex.beta * v[j][b];
       }
     }
+  }
+
+  /// a(x) for the tile's lanes (as accel) from f, u, v of tile_load.
+  KOKKOS_INLINE_FUNCTION void tile_acc(int t, const double (*KOKKOS_RESTRICT f)[kTile],
+                                       const double (*KOKKOS_RESTRICT u)[kTile], const double (*KOKKOS_RESTRICT v)[kTile],
+                                       double (*KOKKOS_RESTRICT ax)[kTile]) const {
+    const int nd = ex.nd;
+    double w[kMaxDof][kTile], kw[kMaxDof][kTile];
+    for (int j = 0; j < nd; ++j)
+      for (int b = 0; b < kTile; ++b) w[j][b] = u[j][b] + ex.beta * v[j][b];
     tile_K(t, w, kw);
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
       for (int b = 0; b < kTile; ++b) ax[i][b] = mi * (f[i][b] - kw[i][b]) - ex.alpha * v[i][b];
+    }
+  }
+
+  /// a(x) of the current iterate for the tile's lanes (as accel); also loads u and v.
+  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*KOKKOS_RESTRICT u)[kTile],
+                                         double (*KOKKOS_RESTRICT v)[kTile], double (*KOKKOS_RESTRICT ax)[kTile]) const {
+    double f[kMaxDof][kTile];
+    tile_load(t, k0, nb, f, u, v);
+    tile_acc(t, f, u, v, ax);
+  }
+
+  /// Residual G(x) of eq. 4.6 for the tile (as BieResidualTag) from the iterate u, v, its a(x)
+  /// ax, and p_n, v_n, a_n (loaded here into pn0, vn0, an0 for the caller; padded lanes zero).
+  KOKKOS_INLINE_FUNCTION void tile_residual(int t, int k0, int nb, const double (*KOKKOS_RESTRICT u)[kTile],
+                                            const double (*KOKKOS_RESTRICT v)[kTile],
+                                            const double (*KOKKOS_RESTRICT ax)[kTile], double (*KOKKOS_RESTRICT pn0)[kTile],
+                                            double (*KOKKOS_RESTRICT vn0)[kTile], double (*KOKKOS_RESTRICT an0)[kTile],
+                                            double (*KOKKOS_RESTRICT g)[kTile]) const {
+    const int nd = ex.nd;
+    const double h = ex.h;
+    double dp[kMaxDof][kTile], dv[kMaxDof][kTile], wv[kMaxDof][kTile], kw[kMaxDof][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      const int e = ex.tile_elem(k0 + (b < nb ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        const double p0 = b < nb ? pn(e, j) : 0.0, v0 = b < nb ? vn(e, j) : 0.0;
+        pn0[j][b] = p0, vn0[j][b] = v0, an0[j][b] = b < nb ? ex.a(e, j) : 0.0;
+        dp[j][b] = u[j][b] - p0, dv[j][b] = v[j][b] - v0;
+        wv[j][b] = dp[j][b] + ex.beta * dv[j][b];
+      }
+    }
+    tile_K(t, wv, kw);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        const double kc = mi * kw[i][b] + ex.alpha * dv[i][b];
+        g[i][b] = h * vn0[i][b] + 0.5 * h * h * an0[i][b] - 0.25 * h * h * kc - dp[i][b];
+        g[nd + i][b] = 0.5 * h * (an0[i][b] + ax[i][b]) - dv[i][b];
+      }
+    }
+  }
+
+  /// The books of the end of the step (as BieFinalTag) for the tile: work, damping, residual norms.
+  KOKKOS_INLINE_FUNCTION void tile_books(int t, int k0, int nb, const double (*KOKKOS_RESTRICT u)[kTile],
+                                         const double (*KOKKOS_RESTRICT v)[kTile],
+                                         const double (*KOKKOS_RESTRICT ax)[kTile], const double (*KOKKOS_RESTRICT pn0)[kTile],
+                                         const double (*KOKKOS_RESTRICT v0)[kTile], const double (*KOKKOS_RESTRICT a0)[kTile],
+                                         double* work, double* pd, double* g2, double* d2) const {
+    const int nd = ex.nd;
+    const double h = ex.h;
+    double dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile];
+    for (int b = 0; b < kTile; ++b) {
+      work[b] = 0;
+      const bool live = b < nb;
+      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        dp[j][b] = u[j][b] - pn0[j][b];
+        vm[j][b] = 0.5 * (v[j][b] + v0[j][b]);
+        work[b] += (ex.theta(t, j) + (ex.has_fp && live ? ex.fp(e, j) : 0.0)) * dp[j][b];
+      }
+    }
+    if (ex.beta != 0.0) tile_K(t, vm, kv);  // else beta K vm adds nothing
+    for (int b = 0; b < kTile; ++b) pd[b] = g2[b] = d2[b] = 0;
+    for (int i = 0; i < nd; ++i) {
+      const double m = ex.mass(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + (ex.beta != 0.0 ? ex.beta * kv[i][b] : 0.0));
+        const double dvi = v[i][b] - v0[i][b];
+        const double gv = 0.5 * h * (a0[i][b] + ax[i][b]) - dvi;
+        g2[b] += m * gv * gv, d2[b] += m * dvi * dvi;
+      }
     }
   }
 
@@ -291,30 +374,11 @@ struct BieIntegrator {
   /// Residual (BieResidualTag), J^-1 apply and update, per tile; driven elements untouched.
   KOKKOS_INLINE_FUNCTION void operator()(BieIterTileTag, int w) const {
     if (w >= ex.n_tiles) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    const double h = ex.h;
-    double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], dp[kMaxDof][kTile], dv[kMaxDof][kTile],
-        wv[kMaxDof][kTile], kw[kMaxDof][kTile], g[kMaxBie][kTile];
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0));
+    double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile], v0[kMaxDof][kTile],
+        a0[kMaxDof][kTile], g[kMaxBie][kTile];
     tile_accel(t, k0, nb, u, v, ax);
-    double vnl[kMaxDof][kTile], an[kMaxDof][kTile];
-    for (int b = 0; b < kTile; ++b) {
-      const int e = ex.tile_elem(k0 + (b < nb ? b : 0));
-      for (int j = 0; j < nd; ++j) {
-        const double p0 = b < nb ? pn(e, j) : 0.0, v0 = b < nb ? vn(e, j) : 0.0;
-        vnl[j][b] = v0, an[j][b] = b < nb ? ex.a(e, j) : 0.0;
-        dp[j][b] = u[j][b] - p0, dv[j][b] = v[j][b] - v0;
-        wv[j][b] = dp[j][b] + ex.beta * dv[j][b];
-      }
-    }
-    tile_K(t, wv, kw);
-    for (int i = 0; i < nd; ++i) {
-      const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) {
-        const double kc = mi * kw[i][b] + ex.alpha * dv[i][b];
-        g[i][b] = h * vnl[i][b] + 0.5 * h * h * an[i][b] - 0.25 * h * h * kc - dp[i][b];
-        g[nd + i][b] = 0.5 * h * (an[i][b] + ax[i][b]) - dv[i][b];
-      }
-    }
+    tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
     tile_solve_update(t, k0, nb, g);
   }
 
@@ -325,7 +389,6 @@ struct BieIntegrator {
       return;
     }
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    const double h = ex.h;
     double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
     tile_accel(t, k0, nb, u, v, ax);
     if (!book) {
@@ -335,34 +398,68 @@ struct BieIntegrator {
       }
       return;
     }
-    double work[kTile], dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile], v0[kMaxDof][kTile],
-        a0[kMaxDof][kTile];
+    double p0[kMaxDof][kTile], v0[kMaxDof][kTile], a0[kMaxDof][kTile];
     for (int b = 0; b < kTile; ++b) {
-      work[b] = 0;
       const bool live = b < nb;
       const int e = ex.tile_elem(k0 + (live ? b : 0));
-      for (int j = 0; j < nd; ++j) {
-        v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
-        dp[j][b] = u[j][b] - (live ? pn(e, j) : 0.0);
-        vm[j][b] = 0.5 * (v[j][b] + v0[j][b]);
-        work[b] += (ex.theta(t, j) + (ex.has_fp && live ? ex.fp(e, j) : 0.0)) * dp[j][b];
-      }
+      for (int j = 0; j < nd; ++j)
+        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
     }
-    tile_K(t, vm, kv);
-    double pd[kTile], g2[kTile], d2[kTile];
-    for (int b = 0; b < kTile; ++b) pd[b] = g2[b] = d2[b] = 0;
-    for (int i = 0; i < nd; ++i) {
-      const double m = ex.mass(t, i);
-      for (int b = 0; b < kTile; ++b) {
-        pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + ex.beta * kv[i][b]);
-        const double dvi = v[i][b] - v0[i][b];
-        const double gv = 0.5 * h * (a0[i][b] + ax[i][b]) - dvi;
-        g2[b] += m * gv * gv, d2[b] += m * dvi * dvi;
-      }
-    }
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
+      ex.acc(e, kWork) += work[b];
+      ex.acc(e, kDamp) += pd[b];
+      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+    }
+  }
+
+  /// The last iteration and the end of the step in one pass, where the end keeps the interface
+  /// force of the previous iterate (Params::bie_reuse_force): that is the force the iteration
+  /// gathers, so BieIterTileTag followed by BieFinalTileTag is this one kernel with one gather,
+  /// one load of u, v, p_n, v_n, a_n and one store of u, v, a per element instead of two of each.
+  /// The same operations on the same values in the same order: the same bits.
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const int n = 2 * nd;
+    double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
+        v0[kMaxDof][kTile], a0[kMaxDof][kTile], g[kMaxBie][kTile];
+    tile_load(t, k0, nb, f, u, v);
+    tile_acc(t, f, u, v, ax);
+    tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
+    // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
+    for (int i0 = 0; i0 < n; i0 += kRowBlock) {
+      double y[kRowBlock][kTile];
+      for (int q = 0; q < kRowBlock; ++q)
+        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
+      const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
+      for (int j = 0; j < n; ++j)
+        for (int q = 0; q < kRowBlock; ++q) {
+          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
+          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
+        }
+      for (int q = 0; q < nq; ++q) {
+        const int row = i0 + q;
+        for (int b = 0; b < kTile; ++b) {
+          if (row < nd) u[row][b] += y[q][b];
+          else v[row - nd][b] += y[q][b];
+        }
+      }
+    }
+    // a_{n+1} = a(x_{n+1}) with the same interface force f, then the books
+    tile_acc(t, f, u, v, ax);
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    if (book) tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.u(e, j) = u[j][b], ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
+      if (!book) continue;
       ex.acc(e, kWork) += work[b];
       ex.acc(e, kDamp) += pd[b];
       ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
@@ -514,11 +611,16 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
       Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw), it);
     }
     for (int k = 0; k < iterations; ++k) {
+      if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
+        Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
+        Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled", Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw),
+                             it);
+        return;
+      }
       if (k > 0) {
         Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
         Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw), it);
       }
-      if (reuse_force && k == iterations - 1 && k > 0) break;
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
       Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
     }

@@ -128,6 +128,13 @@ public:
 
   /// \brief Bytes of device memory held (model + state), and how many element types were shared.
   [[nodiscard]] std::size_t bytes() const;
+  /// \brief Bytes one step must move at least (the memory-bandwidth bound's numerator): every
+  /// model array read once (element types, connectivity, gather list, tiles, loads) and the state
+  /// u, v, a and the per-element books read and written once. Not counted: what a step need not
+  /// move through memory (the interface force rows, BIE's p_n, v_n and residual block: values
+  /// a fused kernel could keep in registers) and the roll-back copy (touched once per check
+  /// interval, not per step).
+  [[nodiscard]] std::size_t step_bytes() const;
   [[nodiscard]] int element_types() const;
   [[nodiscard]] std::size_t bricks() const;
 
