@@ -533,51 +533,6 @@ KOKKOS_INLINE_FUNCTION void store_state(W* st, typename WordTraits<W>::lane* blo
 // Rounds
 // ---------------------------------------------------------------------------------------------
 
-template <class W>
-KOKKOS_INLINE_FUNCTION void add_round_key(W* st, const typename WordTraits<W>::lane* m) {
-  NACRE_AES_UNROLL
-  for (int k = 0; k < 128; ++k) st[k] ^= m[k];
-}
-
-template <class W>
-KOKKOS_INLINE_FUNCTION void sub_bytes(W* st) {
-  NACRE_AES_UNROLL
-  for (int b = 0; b < 16; ++b) sbox(st + 8 * b);
-}
-
-/// \brief out = MixColumns(ShiftRows(in)) ^ round key m. ShiftRows is folded into the indices:
-/// output column c row r reads input byte (r, c + r mod 4). With t = a0^a1^a2^a3,
-/// b_r = a_r ^ t ^ xtime(a_r ^ a_{r+1}) = 2 a_r ^ 3 a_{r+1} ^ a_{r+2} ^ a_{r+3}.
-template <class W>
-KOKKOS_INLINE_FUNCTION void shift_mix_add(const W* in, W* out,
-                                          const typename WordTraits<W>::lane* m) {
-  NACRE_AES_UNROLL
-  for (int c = 0; c < 4; ++c) {
-    const W* a0 = in + 8 * (0 + 4 * ((c + 0) & 3));
-    const W* a1 = in + 8 * (1 + 4 * ((c + 1) & 3));
-    const W* a2 = in + 8 * (2 + 4 * ((c + 2) & 3));
-    const W* a3 = in + 8 * (3 + 4 * ((c + 3) & 3));
-    const W* a[4] = {a0, a1, a2, a3};
-    W t[8];
-    NACRE_AES_UNROLL
-    for (int i = 0; i < 8; ++i) t[i] = a0[i] ^ a1[i] ^ a2[i] ^ a3[i];
-    NACRE_AES_UNROLL
-    for (int r = 0; r < 4; ++r) {
-      const W* x = a[r];
-      const W* y = a[(r + 1) & 3];
-      W d[8];
-      NACRE_AES_UNROLL
-      for (int i = 0; i < 8; ++i) d[i] = x[i] ^ y[i];
-      // xtime(d): multiply by x modulo x^8 + x^4 + x^3 + x + 1.
-      const W e[8] = {d[7], d[0] ^ d[7], d[1], d[2] ^ d[7], d[3] ^ d[7], d[4], d[5], d[6]};
-      W* o = out + 8 * (r + 4 * c);
-      const typename WordTraits<W>::lane* mk = m + 8 * (r + 4 * c);
-      NACRE_AES_UNROLL
-      for (int i = 0; i < 8; ++i) o[i] = x[i] ^ t[i] ^ e[i] ^ mk[i];
-    }
-  }
-}
-
 /// \brief out = ShiftRows(in) ^ round key m (the last round).
 template <class W>
 KOKKOS_INLINE_FUNCTION void shift_add(const W* in, W* out,
