@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 using namespace nacre;
@@ -183,6 +184,93 @@ TEST_CASE("reaction = dE/dD of the relaxed energy (envelope theorem)", "[mc][phy
   for (int c = 0; c < 20000; ++c) solver.cycle();
   const double e = solver.energy();
   CHECK(solver.reaction() == Catch::Approx(2 * e / D).epsilon(2e-2));
+}
+
+TEST_CASE("the sweep's interface-energy cache holds each interface's energy at the current poses, bit for bit",
+          "[mc][physics]") {
+  // The sweep sums cached energies for the old pose and writes a trial's new values back on
+  // acceptance (its own and the neighbours' shared entries): after many sweeps the cache must be
+  // exactly what a fresh evaluation gives, elastic and damaged interfaces alike, on both schedules.
+  const auto d = cracking_deck();
+  const auto st = make(d);
+  const auto adj = geometry::build_adjacency(st.s.size(), st.f);
+  std::vector<bool> free(st.s.size());
+  for (std::size_t i = 0; i < st.s.size(); ++i) free[i] = st.s.drive[i] == geometry::Drive::free;
+  const ExecSpace space;
+  for (const char* colouring : {"natural", "tiles"}) {
+    CAPTURE(colouring);
+    auto m = mc::build_model(space, st.s, st.f, adj, mc::colour_graph(colouring, st.s, adj, free, 1), d.mortar, 4);
+    mc::apply_load(space, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.012);
+    Field<double> cache("nacre::test::cache", m.n_interfaces), fresh("nacre::test::fresh", m.n_interfaces);
+    Field<double> de("nacre::test::de", m.n_free);
+    rng::UniformTable<> u("nacre::test::u", m.n_free);
+    auto hu = Kokkos::create_mirror_view(u);
+    std::mt19937_64 gen(7);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    mc::interface_energies(space, m, cache);
+    long accepted = 0;
+    for (int cyc = 0; cyc < 30; ++cyc) {
+      for (int b = 0; b < m.n_free; ++b)
+        for (int k = 0; k < 4; ++k) hu(b, k) = U(gen);
+      Kokkos::deep_copy(space, u, hu);
+      for (std::size_t c = 0; c + 1 < m.colour_tiles.size(); ++c)
+        accepted += mc::sweep_colour(space, m, m.colour_tiles[c], m.colour_tiles[c + 1], mc::TableUniforms<MemSpace>{u},
+                                     cache, de, 2e-4, 1e-4, 1e-7);
+    }
+    CHECK(accepted > 0);
+    CHECK(accepted < 30L * m.n_free);
+    Field<std::int8_t> state("nacre::test::state", m.n_interfaces);
+    mc::interface_state(space, m, Field<double>(), state);
+    mc::interface_energies(space, m, fresh);
+    space.fence();
+    auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cache);
+    auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fresh);
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), state);
+    int damaged = 0;
+    for (int i = 0; i < m.n_interfaces; ++i) damaged += hs(i) > 0;
+    CHECK(damaged > 0);  // the non-elastic branches are exercised too
+    CHECK(std::memcmp(hc.data(), hf.data(), sizeof(double) * m.n_interfaces) == 0);
+  }
+}
+
+TEST_CASE("Philox numbers generated inside the sweep are those of the Philox table", "[mc][determinism]") {
+  // The solver draws Philox in place (PhiloxUniforms) instead of filling the table first: the
+  // same trials must come out, bit for bit, as from the table PhiloxSource fills.
+  const auto d = cracking_deck();
+  const auto st = make(d);
+  const auto adj = geometry::build_adjacency(st.s.size(), st.f);
+  std::vector<bool> free(st.s.size());
+  for (std::size_t i = 0; i < st.s.size(); ++i) free[i] = st.s.drive[i] == geometry::Drive::free;
+  const ExecSpace space;
+  const auto c = mc::colour_graph("tiles", st.s, adj, free, 1);
+  const std::uint64_t seed = 0x5eed1234abcdull;
+  rng::PhiloxSource source(seed);
+  std::vector<double> poses[2];
+  long accepted[2] = {0, 0};
+  for (int in_place = 0; in_place < 2; ++in_place) {
+    auto m = mc::build_model(space, st.s, st.f, adj, c, d.mortar, 4);
+    mc::apply_load(space, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.006);
+    Field<double> cache("nacre::test::cache", m.n_interfaces), de("nacre::test::de", m.n_free);
+    rng::UniformTable<> u("nacre::test::u", m.n_free);
+    mc::interface_energies(space, m, cache);
+    for (std::uint64_t cyc = 0; cyc < 10; ++cyc) {
+      if (!in_place) source.fill(space, cyc, Kokkos::subview(m.id, Kokkos::make_pair(0, m.n_free)), u);
+      for (std::size_t k = 0; k + 1 < m.colour_tiles.size(); ++k) {
+        if (in_place)
+          accepted[1] += mc::sweep_colour(space, m, m.colour_tiles[k], m.colour_tiles[k + 1], mc::PhiloxUniforms<MemSpace>{m.id, seed, cyc},
+                           cache, de, 2e-4, 1e-4, 1e-7);
+        else
+          accepted[0] += mc::sweep_colour(space, m, m.colour_tiles[k], m.colour_tiles[k + 1], mc::TableUniforms<MemSpace>{u}, cache, de,
+                           2e-4, 1e-4, 1e-7);
+      }
+    }
+    auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.pose);
+    poses[in_place].assign(hp.data(), hp.data() + hp.size());
+  }
+  REQUIRE(poses[0].size() == poses[1].size());
+  CHECK(std::memcmp(poses[0].data(), poses[1].data(), sizeof(double) * poses[0].size()) == 0);
+  CHECK(accepted[0] == accepted[1]);
+  CHECK(accepted[1] > 0);
 }
 
 TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-count comparison",

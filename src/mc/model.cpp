@@ -122,6 +122,28 @@ Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const g
       const auto& law = m.laws[hkind(i)];
       hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, col(SegCol::length));
     }
+  // The sweep's oriented records, slot by slot in adjacency order (the order of the sums).
+  const int ns = hoff(n);
+  alloc(m.slot, "slot", ns), alloc(m.slot_link, "slot_link", ns), alloc(m.slot_kind, "slot_kind", ns);
+  auto hslot = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.slot);
+  auto hlink = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.slot_link);
+  auto hskind = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.slot_kind);
+  for (int k = 0; k < n; ++k)
+    for (int j = hoff(k); j < hoff(k + 1); ++j) {
+      const int i = hadj(j);
+      const bool own_a = hends(i, 0) == k;
+      using C = SegCol;
+      const int own = own_a ? col(C::ra0x) : col(C::rb0x), other = own_a ? col(C::rb0x) : col(C::ra0x);
+      for (int c = 0; c < 4; ++c) hslot(j, col(SlotCol::r0x) + c) = hseg(i, own + c);
+      for (int c = 0; c < 4; ++c) hslot(j, col(SlotCol::o0x) + c) = hseg(i, other + c);
+      hslot(j, col(SlotCol::nx)) = own_a ? hseg(i, col(C::nx)) : -hseg(i, col(C::nx));
+      hslot(j, col(SlotCol::ny)) = own_a ? hseg(i, col(C::ny)) : -hseg(i, col(C::ny));
+      hslot(j, col(SlotCol::length)) = hseg(i, col(C::length));
+      hlink(j, 0) = hends(i, own_a ? 1 : 0), hlink(j, 1) = i;
+      hskind(j) = hkind(i);
+    }
+  Kokkos::deep_copy(space, m.slot, hslot), Kokkos::deep_copy(space, m.slot_link, hlink);
+  Kokkos::deep_copy(space, m.slot_kind, hskind);
   Kokkos::deep_copy(space, m.cx, hcx), Kokkos::deep_copy(space, m.cy, hcy);
   Kokkos::deep_copy(space, m.drive, hdrive), Kokkos::deep_copy(space, m.id, hid);
   Kokkos::deep_copy(space, m.ends, hends), Kokkos::deep_copy(space, m.seg, hseg);

@@ -130,10 +130,16 @@ void Solver::allocate_work() {
   using Kokkos::WithoutInitializing;
   const auto n = static_cast<std::size_t>(m_.n_bricks), nf = static_cast<std::size_t>(m_.n_free);
   // Written before read each cycle / step: no initialisation pass.
-  u_ = rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
+  // The uniforms table only for sources that fill one (Philox is drawn inside the sweep).
+  u_ = dynamic_cast<const rng::PhiloxSource*>(source_.get())
+           ? rng::UniformTable<>()
+           : rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
   save_pose_ = Model<>::PoseView(view_alloc(space_, WithoutInitializing, "nacre::mc::save_pose"), n);
   phi_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::phi"), n);
   de_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::delta_energy"), nf);
+  iface_energy_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::energy_cache"),
+                                static_cast<std::size_t>(m_.n_interfaces));
+  cache_valid_ = false;
   // Read before first written (a checkpoint at step 0 stores the previous poses): zeroed.
   prev_pose_ = Model<>::PoseView(view_alloc(space_, "nacre::mc::prev_pose"), n);
   brick_steps_ = {};
@@ -149,6 +155,7 @@ void Solver::allocate_work() {
 }
 
 void Solver::set_load(double D) {
+  cache_valid_ = false;
   D_ = D;
   apply_load(space_, m_, pattern_, D);
 }
@@ -191,6 +198,7 @@ PolishResult Solver::polish(const std::string& method, double tolerance) {
   PolishOptions o = polish_options_;
   if (!method.empty()) o.method = method;
   if (tolerance > 0) o.tolerance = tolerance;
+  cache_valid_ = false;
   const PolishResult r = polisher_.run(space_, m_, scale_, o);
   times_.polish += timer.seconds();
   return r;
@@ -198,7 +206,10 @@ PolishResult Solver::polish(const std::string& method, double tolerance) {
 
 long Solver::cycle() {
   Kokkos::Timer timer;
-  {
+  // Philox (the default) is generated inside the sweep, brick by brick: the same numbers as its
+  // table (rng::philox_uniforms), without the table pass. Other sources fill the table first.
+  const auto* philox = dynamic_cast<const rng::PhiloxSource*>(source_.get());
+  if (!philox) {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::rng");
     auto streams = Kokkos::subview(m_.id, Kokkos::make_pair(0, m_.n_free));
     source_->fill(space_, global_cycle_, streams, u_);
@@ -211,9 +222,17 @@ long Solver::cycle() {
   {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::sweep");
     const double T = deck_.solver.temperature;
-    for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
-      accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], u_, de_, step_, rot_step_, T,
-                               brick_steps_);
+    if (!cache_valid_) {  // poses changed outside the sweep since the last cycle
+      interface_energies(space_, m_, iface_energy_);
+      cache_valid_ = true;
+    }
+    auto sweep = [&](const auto& uniforms) {
+      for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
+        accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], uniforms, iface_energy_,
+                                 de_, step_, rot_step_, T, brick_steps_);
+    };
+    if (philox) sweep(PhiloxUniforms<MemSpace>{m_.id, philox->seed(), global_cycle_});
+    else sweep(TableUniforms<MemSpace>{u_});
     auto d = de_;
     de = deterministic_sum(space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
                            KOKKOS_LAMBDA(const int b) { return d(b); });
@@ -314,6 +333,7 @@ long Solver::relax(bool& converged) {
 void Solver::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
   brick_energy(space_, m_, phi_);
+  cache_valid_ = false;
   predict_poses(space_, m_, prev_pose_, phi_, ratio);
 }
 
@@ -359,6 +379,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       if (may_revert && !converged && cycles >= static_cast<long>(c_u)) {
         // eq. 2.9: back to the last converged state, retry with a smaller increment
         Kokkos::deep_copy(space_, m_.pose, save_pose_);
+        cache_valid_ = false;
         inc_now = std::max(L.min_step, inc_now * (2.0 / 3.0) * c_t / c_u);
         ++reverts;
         if (log_) *log_ << "  step " << step + 1 << ": no convergence in " << cycles
@@ -371,6 +392,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
         const int broke = ruptured() - ruptured0;
         if (broke > snap_limit) {
           Kokkos::deep_copy(space_, m_.pose, save_pose_);
+          cache_valid_ = false;
           inc_now = std::max(L.min_step, 0.5 * inc_now);
           ++reverts;
           if (log_) *log_ << "  step " << step + 1 << ": " << broke << " interfaces ruptured in one increment (limit "
@@ -479,6 +501,7 @@ void Solver::restore(const Checkpoint& c) {
     throw std::runtime_error("checkpoint was made with colouring '" + c.colouring + "', solver uses '" +
                              m_.colouring_name + "'");
   from_original_order(c.pose, m_.perm, m_.pose);
+  cache_valid_ = false;
   from_original_order(c.previous_pose, m_.perm, prev_pose_);
   refresh_frames(space_, m_);
   if (brick_steps_.active() != !c.brick_step.empty())

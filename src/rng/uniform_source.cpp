@@ -8,20 +8,13 @@ namespace nacre::rng {
 
 void PhiloxSource::fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
-  const std::uint32_t k0 = static_cast<std::uint32_t>(seed_);
-  const std::uint32_t k1 = static_cast<std::uint32_t>(seed_ >> 32);
+  const std::uint64_t seed = seed_;
   Kokkos::parallel_for(
       "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecSpace>(space, 0, streams.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
-        const std::uint64_t s = streams(i);
-        for (int half = 0; half < 2; ++half) {
-          const std::uint64_t c = 2 * draw + static_cast<std::uint64_t>(half);
-          const Block128 ctr{{static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(s >> 32),
-                              static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32)}};
-          const Block128 r = philox4x32_10(ctr, k0, k1);
-          u(i, 2 * half + 0) = to_unit_double((std::uint64_t(r.w[1]) << 32) | r.w[0]);
-          u(i, 2 * half + 1) = to_unit_double((std::uint64_t(r.w[3]) << 32) | r.w[2]);
-        }
+        double r[4];
+        philox_uniforms(seed, streams(i), draw, r);
+        for (int k = 0; k < 4; ++k) u(i, k) = r[k];
       });
 }
 

@@ -135,24 +135,93 @@ struct BrickSteps {
   [[nodiscard]] bool active() const { return step.extent(0) > 0; }
 };
 
-/// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
-/// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
-/// share no interface, so the trials are independent; u(b, 0..3) holds brick b's uniforms.
-/// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
-/// returned (an integer reduction, exact for any thread count).
+/// \brief Each interface's energy at the current poses into cache(i): what the sweep's cache
+/// must hold before a cycle (after any pose change outside the sweep: load, predictor, polish,
+/// restore). The same arithmetic as the sweep's trial evaluation, so the cached value has the
+/// bits a recomputation would give.
 template <class ExecutionSpace, class MemorySpace>
-long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
-                  rng::UniformTable<MemorySpace> u, Field<double, MemorySpace> de, double step, double rot_step,
-                  double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache) {
   check_access<ExecutionSpace, MemorySpace>();
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
   auto p = m.pose;
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
-  auto off = m.adj_offset, adj = m.adj_iface;
-  auto tiles = m.tile_offset;
   const cohesive::LawTable laws = m.laws;
   const cohesive::Quadrature q = m.quad;
+  Kokkos::parallel_for(
+      "nacre::mc::interface_energies", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
+      KOKKOS_LAMBDA(const int i) {
+        cache(i) = kinematics::interface_energy(laws[kind(i)], q, load_segment(seg, i), frame_of(p, ends(i, 0)),
+                                                frame_of(p, ends(i, 1)));
+      });
+}
+
+/// \brief Energy of the interface in adjacency slot j with its brick in frame f and the other
+/// brick in frame fo (Model::slot: oriented from the brick's side; same bits as the interface's
+/// own orientation, see there).
+template <class SlotView>
+KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesive::Law& law,
+                                          const kinematics::Frame& f, const kinematics::Frame& fo) {
+  using C = SlotCol;
+  double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
+  kinematics::point_displacement(f, r(j, col(C::r0x)), r(j, col(C::r0y)), a0x, a0y);
+  kinematics::point_displacement(f, r(j, col(C::r1x)), r(j, col(C::r1y)), a1x, a1y);
+  kinematics::point_displacement(fo, r(j, col(C::o0x)), r(j, col(C::o0y)), b0x, b0y);
+  kinematics::point_displacement(fo, r(j, col(C::o1x)), r(j, col(C::o1y)), b1x, b1y);
+  const double tm = 0.5 * (f.t + fo.t), nx = r(j, col(C::nx)), ny = r(j, col(C::ny));
+  const cohesive::Gap g{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, nx - tm * ny, ny + tm * nx};
+  return cohesive::segment_energy(law, g, r(j, col(C::length)));
+}
+
+/// \brief A trial's four uniforms read from a table filled beforehand (any UniformSource).
+template <class MemorySpace>
+struct TableUniforms {
+  rng::UniformTable<MemorySpace> u;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double r[4]) const {
+    r[0] = u(b, 0), r[1] = u(b, 1), r[2] = u(b, 2), r[3] = u(b, 3);
+  }
+};
+
+/// \brief A trial's four uniforms generated where they are used: Philox at the brick's stream
+/// (its original id) and the cycle's draw index, the same numbers rng::PhiloxSource writes into
+/// the table (one function, rng::philox_uniforms), so no table pass and no table traffic.
+template <class MemorySpace>
+struct PhiloxUniforms {
+  Kokkos::View<const std::uint64_t*, MemorySpace> id;
+  std::uint64_t seed, draw;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double r[4]) const { rng::philox_uniforms(seed, id(b), draw, r); }
+};
+
+/// \brief Most interfaces of one brick whose trial energies a trial keeps in registers for the
+/// cache update on acceptance; a brick with more (not produced by nacre's walls, which give 4-8)
+/// recomputes the rest on acceptance: correct for any degree, fast for the usual one.
+inline constexpr int kTrialKeep = 12;
+
+/// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
+/// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
+/// share no interface, so the trials are independent; uniforms(b, r) gives brick b's four
+/// uniforms (TableUniforms or PhiloxUniforms).
+/// cache(i) holds interface i's energy at the current poses (interface_energies): a trial
+/// evaluates only the brick's own interfaces at the trial pose, the old energy is the sum of
+/// their cached values, and an accepted trial writes its new values back. Same-colour bricks
+/// share no interface, so no two threads write one entry; the neighbour's view of a shared
+/// interface is the same entry, so it stays current. The sums run in the brick's adjacency
+/// order, so e_old has the bits of a recomputation at the current poses.
+/// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
+/// returned (an integer reduction, exact for any thread count).
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+  check_access<ExecutionSpace, MemorySpace>();
+  auto p = m.pose;
+  auto off = m.adj_offset;
+  auto slot = m.slot;
+  auto link = m.slot_link;
+  auto skind = m.slot_kind;
+  auto tiles = m.tile_offset;
+  const cohesive::LawTable laws = m.laws;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
@@ -163,31 +232,28 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
       KOKKOS_LAMBDA(const int w, long& acc) {
        for (int b = tiles(w); b < tiles(w + 1); ++b) {
         const kinematics::Frame f_old = frame_of(p, b);
-        const kinematics::Pose old{f_old.x, f_old.y, f_old.t};
+        double u[4];
+        uniforms(b, u);
         const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
-        const kinematics::Pose trial{old.x + s * (2.0 * u(b, 0) - 1.0), old.y + s * (2.0 * u(b, 1) - 1.0),
-                                     old.t + sr * (2.0 * u(b, 2) - 1.0)};
+        const kinematics::Pose trial{f_old.x + s * (2.0 * u[0] - 1.0), f_old.y + s * (2.0 * u[1] - 1.0),
+                                     f_old.t + sr * (2.0 * u[2] - 1.0)};
         const kinematics::Frame f_new = kinematics::make_frame(trial);
+        const int j0 = off(b), j1 = off(b + 1);
         double e_old = 0, e_new = 0;
-        for (int j = off(b); j < off(b + 1); ++j) {
-          const int i = adj(j);
-          const int a = ends(i, 0), c = ends(i, 1);
-          const int o = (a == b) ? c : a;
-          const kinematics::Frame fo = frame_of(p, o);
-          const kinematics::Segment sg = load_segment(seg, i);
-          const auto& law = laws[kind(i)];
-          if (a == b) {
-            e_old += kinematics::interface_energy(law, q, sg, f_old, fo);
-            e_new += kinematics::interface_energy(law, q, sg, f_new, fo);
-          } else {
-            e_old += kinematics::interface_energy(law, q, sg, fo, f_old);
-            e_new += kinematics::interface_energy(law, q, sg, fo, f_new);
-          }
+        double keep[kTrialKeep];
+        for (int j = j0; j < j1; ++j) {
+          const double en = slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
+          if (j - j0 < kTrialKeep) keep[j - j0] = en;
+          e_old += cache(link(j, 1));
+          e_new += en;
         }
         const double d = e_new - e_old;
-        const bool accept = d <= 0.0 || (inv_t > 0.0 && u(b, 3) < Kokkos::exp(-d * inv_t));
+        const bool accept = d <= 0.0 || (inv_t > 0.0 && u[3] < Kokkos::exp(-d * inv_t));
         if (accept) {
           store_frame(p, b, f_new);
+          for (int j = j0; j < j1; ++j)
+            cache(link(j, 1)) =
+                j - j0 < kTrialKeep ? keep[j - j0] : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
           acc += 1;
           if (per_brick) bacc(b) += 1;  // one thread per brick: no race
         }
@@ -196,6 +262,18 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
       },
       accepted);
   return accepted;
+}
+
+/// \brief The same without a caller-held cache (tests, one-off sweeps): fills a temporary one
+/// at the current poses first.
+template <class ExecutionSpace, class MemorySpace>
+long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  rng::UniformTable<MemorySpace> u, Field<double, MemorySpace> de, double step, double rot_step,
+                  double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+  Field<double, MemorySpace> cache(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::energy_cache"),
+                                   m.n_interfaces);
+  interface_energies(space, m, cache);
+  return sweep_colour(space, m, begin, end, TableUniforms<MemorySpace>{u}, cache, de, step, rot_step, temperature, brick_steps);
 }
 
 /// \brief Position predictor (eq. 2.10, 2.11) for the free bricks: p += ratio (p - p_prev) m,

@@ -20,6 +20,13 @@ enum class SegCol : int { ra0x, ra0y, ra1x, ra1y, rb0x, rb0y, rb1x, rb1y, nx, ny
 /// \brief Column index of a SegCol (for View access: seg(i, col(SegCol::length))).
 KOKKOS_INLINE_FUNCTION constexpr int col(SegCol c) { return static_cast<int>(c); }
 
+/// Columns of Model::slot: an interface seen from one of its bricks ("own"), the other brick's
+/// segment ends, the normal pointing from own to other, and the length.
+enum class SlotCol : int { r0x, r0y, r1x, r1y, o0x, o0y, o1x, o1y, nx, ny, length, count };
+
+/// \brief Column index of a SlotCol.
+KOKKOS_INLINE_FUNCTION constexpr int col(SlotCol c) { return static_cast<int>(c); }
+
 template <class MemorySpace = MemSpace>
 struct Model {
   static_assert(Kokkos::is_memory_space_v<MemorySpace>, "Model needs a Kokkos memory space");
@@ -46,6 +53,17 @@ struct Model {
   Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> ends;       ///< bricks a, b
   Kokkos::View<double* [col(SegCol::count)], Kokkos::LayoutRight, MemorySpace> seg;
   Kokkos::View<std::uint8_t*, MemorySpace> kind;  ///< geometry::JointKind (bed or head): selects the law
+
+  // ---- the sweep's view of the interfaces: one record per adjacency slot j (brick b's
+  // interface adj_iface(j)), oriented from b's side, so a trial reads its brick's records as one
+  // contiguous stream (no gather by interface index, no test of which side b is on). The gap
+  // other - own and the normal own -> other are, for b on side b, the negatives of the
+  // interface's; every term of the energy is a product of two of them, so it has the same bits.
+  // A derived copy of seg (twice its size): kept because the sweep is where the time goes.
+  // LayoutRight: a slot's 11 numbers are read together, and a brick's slots are adjacent.
+  Kokkos::View<double* [col(SlotCol::count)], Kokkos::LayoutRight, MemorySpace> slot;
+  Kokkos::View<int* [2], Kokkos::LayoutRight, MemorySpace> slot_link;  ///< other brick, interface
+  Kokkos::View<std::uint8_t*, MemorySpace> slot_kind;                  ///< joint kind (law)
 
   cohesive::LawTable laws;     ///< one law per joint kind, shared by all interfaces of the kind
   cohesive::Quadrature quad;

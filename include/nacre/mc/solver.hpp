@@ -162,6 +162,10 @@ private:
   rng::UniformTable<> u_;
   SumWorkspace<> sum_ws_;
   Field<double> de_;  ///< accepted energy change per free brick in the current cycle
+  /// Each interface's energy at the current poses (the sweep's cache, kernels.hpp); valid only
+  /// while cache_valid_: every pose change outside the sweep clears the flag, cycle() refills.
+  Field<double> iface_energy_;
+  bool cache_valid_ = false;
   BrickSteps<> brick_steps_;  ///< step_mode = "per-brick" only
   Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
   Field<double> phi_;

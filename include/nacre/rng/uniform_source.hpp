@@ -8,6 +8,7 @@
 /// draw index (the global cycle number). Batching lets table-free generators such as bitsliced
 /// AES work on many blocks at once; it also makes the RNG a separately timed phase (Fig. 2.12).
 #include <nacre/core/types.hpp>
+#include <nacre/rng/philox.hpp>
 
 #include <cstdint>
 #include <memory>
@@ -29,6 +30,22 @@ using StreamIds = Kokkos::View<const std::uint64_t*, MS>;
 /// 2^-53 hit each of the 2^53 equally spaced values with equal probability.
 KOKKOS_INLINE_FUNCTION double to_unit_double(std::uint64_t bits) {
   return static_cast<double>(bits >> 11) * 0x1.0p-53;
+}
+
+/// \brief The four uniforms of Philox4x32-10 (key = seed) for `stream` at draw index `draw`:
+/// counters (stream, 2 draw + half), each 128-bit block giving two doubles from its 64-bit
+/// halves. PhiloxSource fills its table with these, and the sweep can call it in place.
+KOKKOS_INLINE_FUNCTION void philox_uniforms(std::uint64_t seed, std::uint64_t stream, std::uint64_t draw,
+                                            double u[4]) {
+  const std::uint32_t k0 = static_cast<std::uint32_t>(seed), k1 = static_cast<std::uint32_t>(seed >> 32);
+  for (int half = 0; half < 2; ++half) {
+    const std::uint64_t c = 2 * draw + static_cast<std::uint64_t>(half);
+    const Block128 ctr{{static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32),
+                        static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32)}};
+    const Block128 r = philox4x32_10(ctr, k0, k1);
+    u[2 * half + 0] = to_unit_double((std::uint64_t(r.w[1]) << 32) | r.w[0]);
+    u[2 * half + 1] = to_unit_double((std::uint64_t(r.w[3]) << 32) | r.w[2]);
+  }
 }
 
 /// \brief Host-side handle of a generator. (Virtual dispatch happens once per batch, on the host;
@@ -63,6 +80,8 @@ public:
   [[nodiscard]] std::string name() const override { return "philox"; }
   using UniformSource::fill;
   void fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
+  /// \brief The key (for callers that generate the same numbers in place: philox_uniforms).
+  [[nodiscard]] std::uint64_t seed() const { return seed_; }
 
 private:
   std::uint64_t seed_;
