@@ -129,14 +129,16 @@ for ax, (key, label) in zip(axes.flat, metrics):
         if y < best:
             front.append((x, y))
             best = y
-    if front:
-        ax.step([p[0] for p in front], [p[1] for p in front], where="post", color="C1", lw=1.2, label="Pareto front")
+    if front:  # drawn to the right edge so a one-point front shows too
+        xs = [p[0] for p in front] + [max(p[0] for p in pts) * 1.1]
+        ys = [p[1] for p in front] + [front[-1][1]]
+        ax.step(xs, ys, where="post", color="C1", lw=1.2, label="Pareto front")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("CPU time to the final displacement (s, 1 thread)")
     ax.set_ylabel(label)
     ax.grid(True, which="both", alpha=0.3)
-axes.flat[0].legend(loc="upper right", fontsize=8)
+axes.flat[0].legend(loc="lower right", fontsize=8)
 fig.suptitle(f"Speed against accuracy, {ref['steps']}-step reference (residual {ref['max_residual']:.0e}); "
              f"star: default deck settings, square: gradient only (FIRE)", fontsize=10)
 fig.tight_layout()
