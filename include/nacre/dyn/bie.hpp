@@ -56,6 +56,9 @@ struct BieTables {
   double max_condition = 0;      ///< max over types of cond_1(D J D^-1), D = diag(I, h I) (dimensionless J)
   double max_identity_error = 0; ///< max over types of max|J~ J~^-1 - I| of that dimensionless J~
   int n2 = 0;                                     ///< 2 * nd
+  /// C = 0: every type's J^-1 is [[A^-1, 0], [B, I]] with the zero block and the identity exact
+  /// (built blockwise), so the tiled apply multiplies the first nd columns only (half the work).
+  bool block_lower = false;
 };
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
@@ -95,6 +98,28 @@ struct BieIntegrator {
   DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot (unfused path)
   bool book = true;                ///< BieFinalTag: accumulate work and damping (false: a only)
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 per type (fused path)
+  /// J^-1 = [[A^-1, 0], [B, I]] exactly (BieTables::block_lower): the tiled apply sums the first
+  /// nd columns and adds the identity's term, skipping the exact zeros (false: the dense product;
+  /// the same bits on such a matrix up to the sign of a zero, tests/dyn).
+  bool block_lower = false;
+
+  /// y[q] = sum_j J(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of J^-1 (dense, or the block
+  /// structure: the same terms in the same order less the exact zeros).
+  KOKKOS_INLINE_FUNCTION void tile_jinv_rows(int t, int i0, int nq, const double (*KOKKOS_RESTRICT g)[kTile],
+                                             double (*KOKKOS_RESTRICT y)[kTile]) const {
+    const int nd = ex.nd, n = block_lower ? nd : 2 * nd;
+    for (int q = 0; q < kRowBlock; ++q)
+      for (int b = 0; b < kTile; ++b) y[q][b] = 0;
+    for (int j = 0; j < n; ++j)
+      for (int q = 0; q < kRowBlock; ++q) {
+        const double c = q < nq ? J(t, i0 + q, j) : 0.0;
+        for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
+      }
+    if (block_lower)  // the identity of the v-v block: row r >= nd gets 1 * g[r], its only term past nd
+      for (int q = 0; q < nq; ++q)
+        if (i0 + q >= nd)
+          for (int b = 0; b < kTile; ++b) y[q][b] += g[i0 + q][b];
+  }
 
   KOKKOS_INLINE_FUNCTION double minv(int t, int j) const {
     const double m = ex.mass(t, j);
@@ -327,14 +352,8 @@ struct BieIntegrator {
     const int n = 2 * ex.nd, nd = ex.nd;
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
-      for (int q = 0; q < kRowBlock; ++q)
-        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      for (int j = 0; j < n; ++j)
-        for (int q = 0; q < kRowBlock; ++q) {
-          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
-          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
-        }
+      tile_jinv_rows(t, i0, nq, g, y);
       for (int q = 0; q < nq; ++q) {
         const int row = i0 + q;
         for (int b = 0; b < nb; ++b) {
@@ -436,14 +455,8 @@ struct BieIntegrator {
     // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
-      for (int q = 0; q < kRowBlock; ++q)
-        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      for (int j = 0; j < n; ++j)
-        for (int q = 0; q < kRowBlock; ++q) {
-          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
-          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
-        }
+      tile_jinv_rows(t, i0, nq, g, y);
       for (int q = 0; q < nq; ++q) {
         const int row = i0 + q;
         for (int b = 0; b < kTile; ++b) {
