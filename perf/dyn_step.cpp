@@ -159,7 +159,7 @@ int main(int argc, char* argv[]) {
       const dyn::Method m = method_of(mname);
       dyn::Params p = params_for(d, m);
       p.dt = dt[mname];
-      p.bie_block_structure = mname != "bie_dense";  // bie_dense: J^-1 applied as a dense matrix (the comparison)
+      p.bie_block_structure = mname != "bie_dense";  // bie_dense: dense J^-1 apply and full last iteration (the comparison)
       p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
                         : apply == "per_element" ? dyn::ElementApply::per_element
                                                  : dyn::ElementApply::automatic;

@@ -144,11 +144,27 @@ TEST_CASE("bie: the J^-1 apply variants give the same result to rounding", "[dyn
     REQUIRE(sim.advance(Exec{}, 300));
     strain.push_back(sim.energies().strain);
   }
+  {  // shared_gemm with the dense J^-1 and the full last iteration: the same form as row
+    auto p = loaded(500, dyn::Method::bie);
+    p.bie_block_structure = false;
+    p.dt = 10 * estimate(p, st2);
+    dyn::Simulation sim(p, st2.s, st2.f, mortar());
+    REQUIRE(sim.advance(Exec{}, 300));
+    strain.push_back(sim.energies().strain);
+  }
+  INFO("strain row " << strain[0] << " reordered " << strain[1] << " shared_gemm (reduced) " << strain[2]
+                     << " shared_gemm (dense) " << strain[3]);
   CHECK(std::abs(strain[1] - strain[0]) <= 1e-12 * strain[0]);
-  CHECK(std::abs(strain[2] - strain[0]) <= 1e-12 * strain[0]);
+  CHECK(std::abs(strain[3] - strain[0]) <= 1e-12 * strain[0]);
+  // C = 0: the reduced last iteration (BieIterFinalLinearTileTag) is the same step in exact
+  // arithmetic, not the same operations: it does not fold the rounding of u_1 = p_n + dp
+  // (eps |p_n|, large against one step's dp) back into v as the full form does, so 300 steps
+  // differ by ~1e-10 relative (the next test bounds it)
+  CHECK(std::abs(strain[2] - strain[0]) <= 1e-8 * strain[0]);
 }
 
-TEST_CASE("bie: with C = 0 the block-structured J^-1 apply is the dense product, bit for bit", "[dyn][bie]") {
+TEST_CASE("bie: with C = 0 the block-structured J^-1 and the reduced last iteration equal the dense form to rounding",
+          "[dyn][bie]") {
   const auto st = make(wall(6, 6, 2.0));
   auto p = loaded(500, dyn::Method::bie);
   p.dt = 10 * estimate(p, st);
@@ -183,14 +199,24 @@ TEST_CASE("bie: with C = 0 the block-structured J^-1 apply is the dense product,
     strain.push_back(sim.energies().strain);
   }
   CHECK(strain[0] > 0);
-  for (const char* k : {"u", "v", "a", "acc"}) {
+  INFO("strain " << strain[0] << " vs " << strain[1] << ", relative difference " << std::abs(strain[0] - strain[1]) / strain[1]);
+  // equal to rounding: the full form folds the rounding of u_1 = p_n + dp (eps |p_n|) into v
+  // through B G_p each step, the reduced form does not; measured 5e-10 after 300 steps, while
+  // changing the J^-1 apply's summation order alone gives < 1e-12 (previous test)
+  CHECK(std::abs(strain[0] - strain[1]) <= 1e-8 * strain[1]);
+  for (const char* k : {"u", "v"}) {
     const auto& x = states[0].at(k);
     const auto& y = states[1].at(k);
     REQUIRE(x.size() == y.size());
+    double worst = 0, scale = 0;
     std::size_t differ = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) differ += !(x[i] == y[i]);  // == : +0 and -0 alike
-    INFO("array " << k);
-    CHECK(differ == 0);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      worst = std::max(worst, std::abs(x[i] - y[i])), scale = std::max(scale, std::abs(y[i]));
+      differ += !(x[i] == y[i]);
+    }
+    INFO("array " << k << ": " << differ << " of " << x.size() << " entries differ, worst " << worst << " of " << scale);
+    CHECK(scale > 0);
+    CHECK(worst <= 1e-8 * scale);
   }
 }
 

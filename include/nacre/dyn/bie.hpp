@@ -88,6 +88,7 @@ struct BieStartTileTag {};
 struct BieIterTileTag {};
 struct BieFinalTileTag {};
 struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
+struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
 /// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
@@ -478,6 +479,45 @@ struct BieIntegrator {
       ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
     }
   }
+
+  /// BieIterFinalTileTag when C = 0 (block_lower), in its reduced form. The position residual
+  /// G_p = h v_n + h^2/2 a_n - (I + h^2/4 M^-1 K) dp does not involve the interface force, and
+  /// the first iteration solved it exactly (dp_1 = A^-1 (h v_n + h^2/2 a_n), A = I + h^2/4 M^-1 K),
+  /// so G_p(x_1) = 0 and J^-1 = [[A^-1, 0], [B, I]] leaves y_p = 0, y_v = G_v: the last iteration
+  /// is p_{n+1} = p_1, v_{n+1} = v_n + h/2 (a_n + a(x_1)), and a_{n+1} = a(x_1) (a depends on p
+  /// only, the force is kept). The full form computes the same values plus the rounding of
+  /// G_p ~ 0 times J^-1: equal to rounding (tests/dyn), at one K apply instead of five and no
+  /// store of u.
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalLinearTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
+        v0[kMaxDof][kTile], a0[kMaxDof][kTile];
+    tile_load(t, k0, nb, f, u, v);
+    tile_acc(t, f, u, v, ax);
+    for (int b = 0; b < kTile; ++b) {
+      const bool live = b < nb;
+      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
+        v[j][b] = v0[j][b] + 0.5 * h * (a0[j][b] + ax[j][b]);
+      }
+    }
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    if (book) tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
+      if (!book) continue;
+      ex.acc(e, kWork) += work[b];
+      ex.acc(e, kDamp) += pd[b];
+      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+    }
+  }
 };
 
 // ---- the J^-1 apply: R(s, :) <- J^-1(type(s)) R(s, :) for every slot, in place
@@ -626,8 +666,12 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
     for (int k = 0; k < iterations; ++k) {
       if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
         Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
-        Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled", Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw),
-                             it);
+        if (it.block_lower)
+          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
+                               Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
+        else
+          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled",
+                               Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw), it);
         return;
       }
       if (k > 0) {
