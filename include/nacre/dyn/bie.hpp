@@ -29,6 +29,11 @@
 ///   the defaults (two iterations, force kept): start + first J^-1 apply, the interface force at
 ///   x_1, then the second iteration and the end of the step in one pass (BieIterFinalTileTag: both
 ///   use the force at x_1, so one gather and one load/store of the state serve both).
+/// - Without damping (C = 0, BieTables::block_lower) J^-1 = [[A^-1, 0], [B, I]] is built blockwise
+///   (exact zeros and identity) and the tiled apply skips them; and the last iteration takes its
+///   reduced form (BieIterFinalLinearTileTag): G_p does not involve the interface force, so the
+///   first iteration already zeroed it and the second only sets v = v_n + h/2 (a_n + a(x_1)),
+///   one K apply instead of five. Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
