@@ -33,7 +33,7 @@
 ///   (exact zeros and identity) and the tiled apply skips them; and the last iteration takes its
 ///   reduced form (BieIterFinalLinearTileTag): G_p does not involve the interface force, so the
 ///   first iteration already zeroed it and the second only sets v = v_n + h/2 (a_n + a(x_1)),
-///   one K apply instead of five. Params::bie_block_structure = false keeps the dense form.
+///   one nd x nd apply instead of the three K applies and the 2nd x 2nd J^-1 apply. Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
@@ -491,8 +491,8 @@ struct BieIntegrator {
   /// so G_p(x_1) = 0 and J^-1 = [[A^-1, 0], [B, I]] leaves y_p = 0, y_v = G_v: the last iteration
   /// is p_{n+1} = p_1, v_{n+1} = v_n + h/2 (a_n + a(x_1)), and a_{n+1} = a(x_1) (a depends on p
   /// only, the force is kept). The full form computes the same values plus the rounding of
-  /// G_p ~ 0 times J^-1: equal to rounding (tests/dyn), at one K apply instead of five and no
-  /// store of u.
+  /// G_p ~ 0 times J^-1: equal to rounding (tests/dyn), at one K apply instead of three K applies
+  /// and the J^-1 apply, and no store of u.
   KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalLinearTileTag, int w) const {
     if (w >= ex.n_tiles) {
       if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
