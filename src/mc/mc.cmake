@@ -3,20 +3,17 @@
 include_guard(GLOBAL)
 
 # The sweep (include/nacre/mc/kernels.hpp) is instantiated for the solver in src/mc/solver.cpp
-# only. On a host it evaluates 8 same-colour bricks side by side (BatchedTrials); -march=native on
+# only. With NACRE_MC_BATCHED it evaluates 8 same-colour bricks side by side on a host
+# (BatchedTrials); -march=native on
 # that one source lets those lanes use the machine's widest vectors (AVX-512: one register).
 # -ffp-contract=off keeps the compiler from fusing a multiply and an add into an FMA, so every
 # operation rounds as in the portable (x86-64 baseline) build: the native source gives the same
 # bits as the portable one (perf/results/mc/sweep_simd/ compares energy_after; the thread-count
-# fingerprints do not move). ON by default on host builds, as NACRE_AES_NATIVE (a binary built
-# here needs the build machine's instruction set).
-set(_nacre_mc_native_default ON)
-if(CMAKE_CROSSCOMPILING OR Kokkos_ENABLE_CUDA OR Kokkos_ENABLE_HIP OR Kokkos_ENABLE_SYCL
-   OR Kokkos_ENABLE_OPENMPTARGET)
-  set(_nacre_mc_native_default OFF)
-endif()
+# fingerprints do not move). OFF by default: it only pays together with NACRE_MC_BATCHED (the
+# scalar sweep runs at the same rate with it, 0.96-1.11x), and a binary built with it needs the
+# build machine's instruction set.
 option(NACRE_MC_NATIVE "Compile the MC solver (src/mc/solver.cpp) with -march=native -ffp-contract=off (host builds)"
-       ${_nacre_mc_native_default})
+       OFF)
 # ON: the solver's host sweeps evaluate kSweepLanes same-colour work items side by side
 # (mc::BatchedTrials, include/nacre/mc/kernels.hpp); same bits as the default ScalarTrials. OFF by
 # default: on the CPU it was measured on it is slower than the scalar sweep at 300k bricks and

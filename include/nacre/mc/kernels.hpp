@@ -357,13 +357,16 @@ inline void prefetch(const void* p) {
 /// interface and none is another's neighbour: evaluating them together changes no trial.
 ///
 /// Per step, the lanes' slots j = 0, 1, ... are evaluated as one loop over the lanes without
-/// branches, which the compiler turns into vector instructions (gathers of the records and the
-/// neighbours' poses, the elastic closed form and the penalty's sixth power as selects); a lane
-/// whose interface is not elastic everywhere takes the scalar cohesive::segment_energy for that
-/// slot. The proposal (Philox, two sines), the Metropolis test and the writes stay per lane, in
-/// the scalar code's order. The lane arithmetic is the scalar code's expression for expression,
-/// so the energies, acceptances and poses have the scalar path's bits (tests/test_mc.cpp checks
-/// this on damaged and penetrating interfaces, both schedules).
+/// branches, which the compiler turns into vector instructions (the records and the neighbours'
+/// poses transposed from rows first, detail::transpose_rows; the elastic closed form and the
+/// penalty's sixth power as selects); a lane whose interface is not elastic everywhere takes the
+/// scalar cohesive::segment_energy for that slot. The proposal (Philox, two sines), the
+/// Metropolis test and the writes stay per lane, in the scalar code's order. The lane arithmetic
+/// is the scalar code's expression for expression, so the energies, acceptances and poses have
+/// the scalar path's bits (tests/test_mc_batched.cpp checks this on damaged and penetrating
+/// interfaces, three colourings, global and per-brick steps). Host only (a plain lambda and
+/// host intrinsics); measured slower than ScalarTrials at 300k bricks on the CPU it was written
+/// on, so the solver uses it only with NACRE_MC_BATCHED (perf/README.md, "Batched trials").
 template <class ExecutionSpace, class MemorySpace, class Uniforms>
 long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
                   const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
@@ -384,8 +387,8 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
   const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
   auto bacc = brick_steps.accepted;
-  // raw pointers for the lane loop, with the unpadded LayoutRight row lengths as constants (a
-  // slot's 11 numbers, a link's 2, a pose's 5): the gathers then index with a constant scale
+  // raw pointers for the lane loops, with the unpadded LayoutRight row lengths as constants (a
+  // slot's 11 numbers, a link's 2, a pose's 5): rows are then fixed-size blocks to transpose
   constexpr int rs = col(SlotCol::count), lsr = 2, ps = 5;
   static_assert(rs > 8 && rs <= 16 && ps <= 8, "transpose_rows moves a record in two blocks, a pose in one");
   if (slot.stride(0) != std::size_t(rs) || link.stride(0) != std::size_t(lsr) || p.stride(0) != std::size_t(ps))
