@@ -167,4 +167,7 @@ TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[dec
              StartsWith("deck.toml:16: solver.relaxation:"));
   CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"none\"\n"),
              ContainsSubstring("expected polish = \"fire\" or \"newton\""));
+  CHECK(parse_deck_string(base + "[solver]\npolish = \"anneal\"\n", "deck.toml").solver.polish == "anneal");
+  CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"anneal\"\n"),
+             ContainsSubstring("not \"anneal\""));
 }

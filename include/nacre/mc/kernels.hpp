@@ -620,11 +620,18 @@ KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double
   return (a < 0.4 || a > 0.6) ? Kokkos::clamp(s * (0.5 + a), lo, hi) : s;
 }
 
+/// \brief The same rule about another acceptance target (band target +- 0.1, factor
+/// 1 + a - target): annealing at T -> 0 cannot reach eq. 2.7's 0.5 (a descent-only chain
+/// accepts at most half of small trials), so it aims lower (Solver::anneal).
+KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double hi, double target) {
+  return (a < target - 0.1 || a > target + 0.1) ? Kokkos::clamp(s * (1.0 + (a - target)), lo, hi) : s;
+}
+
 /// \brief eq. 2.7 per brick: after `interval` trials, adapt each brick's steps to its own
 /// acceptance (adapted_step) and restart its count.
 template <class ExecutionSpace, class MemorySpace>
 void adapt_brick_steps(const ExecutionSpace& space, const BrickSteps<MemorySpace>& bs, int n_free, int interval,
-                       double min_step, double max_step, double min_rot, double max_rot) {
+                       double min_step, double max_step, double min_rot, double max_rot, double target = 0.5) {
   check_access<ExecutionSpace, MemorySpace>();
   auto step = bs.step;
   auto acc = bs.accepted;
@@ -632,8 +639,10 @@ void adapt_brick_steps(const ExecutionSpace& space, const BrickSteps<MemorySpace
       "nacre::mc::adapt_brick_steps", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_free),
       KOKKOS_LAMBDA(const int b) {
         const double a = static_cast<double>(acc(b)) / interval;
-        step(b, 0) = adapted_step(step(b, 0), a, min_step, max_step);
-        step(b, 1) = adapted_step(step(b, 1), a, min_rot, max_rot);
+        step(b, 0) = target == 0.5 ? adapted_step(step(b, 0), a, min_step, max_step)
+                                   : adapted_step(step(b, 0), a, min_step, max_step, target);
+        step(b, 1) = target == 0.5 ? adapted_step(step(b, 1), a, min_rot, max_rot)
+                                   : adapted_step(step(b, 1), a, min_rot, max_rot, target);
         acc(b) = 0;
       });
 }

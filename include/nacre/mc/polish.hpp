@@ -26,7 +26,7 @@ namespace nacre::mc {
 
 /// \brief What a polish is asked to do.
 struct PolishOptions {
-  std::string method = "fire";  ///< "fire" | "newton" | "none"
+  std::string method = "fire";  ///< "fire" | "newton" | "none" ("anneal": mc::Solver::anneal)
   double tolerance = 1e-6;      ///< residual to reach
   int max_iterations = 5000;    ///< FIRE steps or Newton sweeps
   double rotation_length = 1.0; ///< l of the FIRE coordinates (x, y, l theta)

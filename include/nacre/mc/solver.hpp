@@ -90,8 +90,15 @@ public:
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
   /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
-  /// `tolerance` when > 0); see polish.hpp.
+  /// `tolerance` when > 0); see polish.hpp. "anneal" is Monte Carlo cooled to T = 0 (anneal()).
   PolishResult polish(const std::string& method = "", double tolerance = 0);
+  /// \brief Simulated annealing to a residual (issue 9 §0, the alternative to a gradient polish):
+  /// Monte Carlo cycles at a temperature halved every `AdaptInter` cycles from the deck's TEMP
+  /// (and 0 once it is below 1e-12 of it), step sizes adapted as in the run but with their floors
+  /// lifted (MinStepSize and MinRotSize times 1e-6) so the trial moves can shrink to the distance
+  /// from the minimum; the residual is checked after every block of `AdaptInter` cycles.
+  /// Iterations are cycles; the step sizes of the run are restored afterwards.
+  PolishResult anneal(const PolishOptions& o);
   /// \brief The scales the residual is measured against.
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
   /// \brief Exact gradient per free brick after residual() or polish() (sweep order).
@@ -173,6 +180,9 @@ private:
   std::vector<std::pair<std::string, double>> presim_;
   PhaseTimes times_;
   double D_ = 0, E_ = 0, step_, rot_step_;
+  double temperature_;        ///< of the sweep: the deck's TEMP, lower while anneal() runs
+  double step_floor_ = 1.0;   ///< factor on MinStepSize / MinRotSize (1e-6 while anneal() runs)
+  double acceptance_target_ = 0.5;  ///< of the step adaptation (eq. 2.7: 0.5; lower while anneal() runs)
   long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
   long accepted_total_ = 0, trials_total_ = 0;
   long cycle_limit_ = 0;

@@ -45,12 +45,13 @@ void read_solver(Section& top, Deck& d) {
   s.string("convergence", S.convergence, {"residual", "window"}, "\"residual\" or \"window\"");
   s.number("residual_tolerance", {}, S.residual_tolerance, [](double v) { return v > 0 && v < 1; },
            "a tolerance in (0, 1) (the residual is relative to k x1 brick_width)");
-  s.string("polish", S.polish, {"fire", "newton", "none"}, "one of \"fire\", \"newton\", \"none\"");
+  s.string("polish", S.polish, {"fire", "newton", "anneal", "none"},
+           "one of \"fire\", \"newton\", \"anneal\", \"none\"");
   s.integer("polish_iterations", {}, S.polish_iterations, 1, 100000000, "an integer >= 1");
   s.string("relaxation", S.relaxation, {"monte-carlo", "gradient"}, "\"monte-carlo\" or \"gradient\"");
-  if (S.relaxation == "gradient" && S.polish == "none")
+  if (S.relaxation == "gradient" && S.polish != "fire" && S.polish != "newton")
     s.fail("relaxation", "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\" or "
-                         "\"newton\", not \"none\"");
+                         "\"newton\", not \"" + S.polish + "\"");
   // The paper's AmpFactor and StructSteps are 1 in every run it reports; nacre implements that
   // case only and says so instead of silently ignoring another value.
   double amp = 1, structs = 1;
