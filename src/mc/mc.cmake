@@ -4,8 +4,8 @@ include_guard(GLOBAL)
 
 # The sweep (include/nacre/mc/kernels.hpp) is instantiated for the solver in src/mc/solver.cpp
 # only. With NACRE_MC_BATCHED it evaluates 8 same-colour bricks side by side on a host
-# (BatchedTrials); -march=native on
-# that one source lets those lanes use the machine's widest vectors (AVX-512: one register).
+# (BatchedTrials); -march=native on that one source lets those lanes use the machine's widest
+# vectors (AVX-512: one register).
 # -ffp-contract=off keeps the compiler from fusing a multiply and an add into an FMA, so every
 # operation rounds as in the portable (x86-64 baseline) build: the native source gives the same
 # bits as the portable one (perf/results/mc/sweep_simd/ compares energy_after; the thread-count
