@@ -315,8 +315,12 @@ Snapshot Simulation::snapshot() const {
   interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
-  s.iface_damage.assign(hd.data(), hd.data() + nm);
-  s.iface_state.assign(hs.data(), hs.data() + nm);
+  s.iface_damage.assign(nm, 0.0);
+  s.iface_state.assign(nm, 0);
+  for (int i = 0; i < nm; ++i) {  // back to the geometry's interface order
+    const auto g = static_cast<std::size_t>(I.map.iface_geom[i]);
+    s.iface_damage[g] = hd(i), s.iface_state[g] = hs(i);
+  }
   return s;
 }
 

@@ -85,7 +85,8 @@ struct Model {
   int n_tiles = 0, n_driven = 0;
   bool ainv_diagonal = false;  ///< every type's (M + h/2 C)^-1 is diagonal (beta_d = 0): skip its zeros
 
-  // ---- interfaces (first the geometry's bed/head interfaces in its order, then internal joints)
+  // ---- interfaces (first the geometry's bed/head interfaces in element order: sorted by their
+  // first element, the geometry's order within; HostMap::iface_geom maps back; then internal joints)
   Kokkos::View<int* [2], ElemLayout<MemorySpace>, MemorySpace> ielem;          ///< element of side a, b
   /// Interface shapes, shared as element types are ("model no more than the scene needs"): the
   /// geometry of interface i is shape ishape(i); interfaces with bitwise-equal geometry (local
@@ -116,6 +117,7 @@ struct HostMap {
   std::vector<int> type_nodes;
   std::vector<double> type_x, type_y;          ///< [type * kMaxNodes + node]
   std::vector<double> cx, cy;                  ///< per brick centroid
+  std::vector<int> iface_geom;                 ///< model interface i < n_mortar -> the geometry's interface index
 };
 
 /// \brief Build the model of `p.method` for a specimen (host assembly, then upload).

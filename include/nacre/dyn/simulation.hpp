@@ -74,6 +74,9 @@ struct Params {
   /// BIE with C = 0, tiled J^-1 apply: skip the exact zero block and identity of J^-1 (half the
   /// multiply-adds, the same bits); false = the dense product (benchmarks and tests compare them).
   bool bie_block_structure = true;
+  /// Interfaces numbered in element order (true, src/dyn/model.cpp) or in the geometry's order
+  /// (false: the comparison in tests/dyn); outputs are in the geometry's order either way.
+  bool iface_element_order = true;
   int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
 };
 
