@@ -93,7 +93,7 @@ double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n
 }
 
 dyn::Method method_of(const std::string& name) {
-  return name == "ue" ? dyn::Method::ue : name == "bie" ? dyn::Method::bie : dyn::Method::be;
+  return name == "ue" ? dyn::Method::ue : (name == "bie" || name == "bie_dense") ? dyn::Method::bie : dyn::Method::be;
 }
 
 std::size_t state_bytes(const dyn::StateArrays& s) {
@@ -159,6 +159,7 @@ int main(int argc, char* argv[]) {
       const dyn::Method m = method_of(mname);
       dyn::Params p = params_for(d, m);
       p.dt = dt[mname];
+      p.bie_block_structure = mname != "bie_dense";  // bie_dense: dense J^-1 apply and full last iteration (the comparison)
       p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
                         : apply == "per_element" ? dyn::ElementApply::per_element
                                                  : dyn::ElementApply::automatic;

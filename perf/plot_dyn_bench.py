@@ -56,10 +56,10 @@ for i, m in enumerate(ms):
                   color=["C0", "C3"])
         ax[2].text(2 * i + 0.4, r["bytes_per_brick_unshared"], f"{m.upper()}", ha="center", va="bottom")
 # BIE vs BE to the same simulated time: (dt_bie / t_bie) / (dt_be / t_be), same size and threads
-for rb in (r for r in rows if r["method"] == "bie"):
+for rb in (r for r in rows if r["method"] in ("bie", "bie_dense")):
     re_ = [r for r in rows if r["method"] == "be" and r["threads"] == rb["threads"] and r["bricks"] == rb["bricks"]]
     if re_:
-        summary.setdefault("bie_over_be_speed", {}).setdefault(f"{int(rb['threads'])}t", {})[int(rb["bricks"])] = {
+        summary.setdefault(f"{rb['method']}_over_be_speed", {}).setdefault(f"{int(rb['threads'])}t", {})[int(rb["bricks"])] = {
             "step_ratio": rb["dt"] / re_[0]["dt"], "cost_ratio": rb["seconds_per_step"] / re_[0]["seconds_per_step"],
             "speedup": (rb["dt"] / rb["seconds_per_step"]) / (re_[0]["dt"] / re_[0]["seconds_per_step"]),
             "cost_ratio_cpu": rb["cpu_seconds_per_step"] / re_[0]["cpu_seconds_per_step"],

@@ -4,7 +4,8 @@
 # Usage (from the repository root, on the host):
 #   devenv/nacre-env run perf/run_dyn_bench.sh [OUTDIR]      (default perf/results/dyn_step)
 # Sizes: NACRE_DYN_SIZES (default 10000,50000,100000,200000), steps per block NACRE_DYN_STEPS, blocks
-# NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie); pass them with env:
+# NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie; bie_dense = BIE with the dense
+# J^-1 apply and full last iteration, the comparison for the undamped reduced form); pass them with env:
 # devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
 # Thread counts NACRE_DYN_THREADS (default "1 2"). NACRE_DYN_NATIVE=1 builds and runs the
 # -march=native build of the kernels instead (build/native, CMake option NACRE_DYN_NATIVE=ON;

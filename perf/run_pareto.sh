@@ -20,8 +20,8 @@ bricks="${NACRE_PARETO_BRICKS:-20000}"
 final="${NACRE_PARETO_FINAL:-0.16}"
 jobs="${NACRE_PARETO_JOBS:-2}"
 mkdir -p "$out"
-cmake --preset openmp >/dev/null && cmake --build --preset openmp --target nacre >/dev/null
-bin=build/openmp/src/nacre
+source perf/app_runs.sh
+app_build
 
 base="$out/base.toml"
 perf/scaled_deck.sh "$bricks" "$final" > "$base"
@@ -63,24 +63,11 @@ run_variant() {
   mkdir -p "$dir"
   sed -e "${V[$name]:-s/^//}" "$base" > "$dir/deck.toml"
   echo "[pareto] $name: start $(date +%T)"
-  local rc=0 TIMEFORMAT='%U %S %R'
-  # user, system and wall seconds of the run (also for a run that fails: it has no summary)
-  { time OMP_NUM_THREADS=1 OMP_PROC_BIND=false "$bin" "$dir/deck.toml" -o "$dir/run" --overwrite -q \
-      > "$dir/log.txt" 2>&1 || rc=$?; } 2> "$dir/time.tmp"
-  mv "$dir/time.tmp" "$dir/time.txt"
-  [ -f "$dir/run/summary.json" ] && cp "$dir/run/summary.json" "$dir/run/steps.csv" "$dir/"
-  [ -f "$dir/run/steps.csv" ] && cp "$dir/run/steps.csv" "$dir/" || true
-  echo "$rc" > "$dir/exit_code"
+  app_timed_run "$dir" -q
   # a run that ends without a summary (not converged: exit 4) still counts, with its rows
-  [ -f "$dir/summary.json" ] || echo "{\"failed\": true, \"exit_code\": $rc}" > "$dir/summary.json"
-  echo "[pareto] $name: exit $rc $(date +%T)"
+  [ -f "$dir/summary.json" ] || echo "{\"failed\": true, \"exit_code\": $(cat "$dir/exit_code")}" > "$dir/summary.json"
+  echo "[pareto] $name: exit $(cat "$dir/exit_code") $(date +%T)"
 }
 
-running=0
-for name in "${order[@]}"; do
-  run_variant "$name" &
-  running=$((running + 1))
-  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
-done
-wait || true
+app_pool "$jobs" run_variant "${order[@]}"
 python3 perf/plot_pareto.py "$out"

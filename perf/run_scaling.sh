@@ -18,8 +18,8 @@ sizes="${NACRE_SCALING_SIZES:-5000,10000,20000,40000,80000}"
 final="${NACRE_SCALING_FINAL:-0.06}"
 jobs="${NACRE_SCALING_JOBS:-1}"
 mkdir -p "$out"
-cmake --preset openmp >/dev/null && cmake --build --preset openmp --target nacre >/dev/null
-bin=build/openmp/src/nacre
+source perf/app_runs.sh
+app_build
 
 run_size() {
   local n="$1" dir="$out/n$1"
@@ -27,20 +27,9 @@ run_size() {
   mkdir -p "$dir"
   perf/scaled_deck.sh "$n" "$final" > "$dir/deck.toml"
   echo "[scaling] $n bricks: start $(date +%T)"
-  local rc=0 TIMEFORMAT='%U %S %R'
-  { time OMP_NUM_THREADS=1 OMP_PROC_BIND=false "$bin" "$dir/deck.toml" -o "$dir/run" --overwrite \
-      > "$dir/log.txt" 2>&1 || rc=$?; } 2> "$dir/time.tmp"
-  cp "$dir/run/steps.csv" "$dir/run/summary.json" "$dir/" 2>/dev/null || true
-  echo "$rc" > "$dir/exit_code"
-  mv "$dir/time.tmp" "$dir/time.txt"
-  echo "[scaling] $n bricks: exit $rc $(date +%T)"
+  app_timed_run "$dir"
+  echo "[scaling] $n bricks: exit $(cat "$dir/exit_code") $(date +%T)"
 }
 
-running=0
-for n in ${sizes//,/ }; do
-  run_size "$n" &
-  running=$((running + 1))
-  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
-done
-wait || true
+app_pool "$jobs" run_size ${sizes//,/ }
 python3 perf/plot_scaling.py "$out"

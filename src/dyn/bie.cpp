@@ -44,6 +44,7 @@ BieTables<> build_bie_tables(const Model<>& m) {
   BieTables<> b;
   const int nd = m.nd, n = 2 * nd, nt = m.n_types, ne = m.n_elem;
   b.n2 = n;
+  b.block_lower = m.alpha == 0.0 && m.beta == 0.0;
   b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
   for (int t = 0; t < nt; ++t) {
@@ -56,11 +57,24 @@ BieTables<> build_bie_tables(const Model<>& m) {
     d.tail(nd).setConstant(m.h);
     const Eigen::MatrixXd J = d.asDiagonal() * Jraw * d.cwiseInverse().asDiagonal();
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
-    const Eigen::MatrixXd Jti = lu.inverse();
+    Eigen::MatrixXd Jti = lu.inverse(), Jis;
+    if (b.block_lower) {
+      // C = 0: J = [[A, 0], [h/2 M^-1 K, I]], A = I + h^2/4 M^-1 K, so J^-1 = [[A^-1, 0], [B, I]],
+      // B = -h/2 M^-1 K A^-1, built blockwise: the zero block and the identity are exact (the
+      // tiled apply skips them, bit for bit the dense product of this matrix), the rest agrees
+      // with the LU inverse to rounding.
+      const Eigen::MatrixXd Jp = Jraw.topLeftCorner(nd, nd), Jvp = Jraw.bottomLeftCorner(nd, nd);
+      const Eigen::MatrixXd Ai = Eigen::PartialPivLU<Eigen::MatrixXd>(Jp).inverse();
+      Jis = Eigen::MatrixXd::Zero(n, n);
+      Jis.topLeftCorner(nd, nd) = Ai;
+      Jis.bottomLeftCorner(nd, nd) = -(Jvp * Ai);
+      Jis.bottomRightCorner(nd, nd).setIdentity();
+      Jti = d.asDiagonal() * Jis * d.cwiseInverse().asDiagonal();  // dimensionless, for the checks below
+    }
     // cond_1(J~) = |J~|_1 |J~^-1|_1 (exact for the computed inverse, n <= 32: cheap)
     const double cond = J.cwiseAbs().colwise().sum().maxCoeff() * Jti.cwiseAbs().colwise().sum().maxCoeff();
     const double err = (J * Jti - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff();
-    const Eigen::MatrixXd Ji = d.cwiseInverse().asDiagonal() * Jti * d.asDiagonal();
+    const Eigen::MatrixXd Ji = b.block_lower ? Jis : Eigen::MatrixXd(d.cwiseInverse().asDiagonal() * Jti * d.asDiagonal());
     if (!std::isfinite(cond) || cond > kMaxCondition || !Ji.allFinite())
       throw std::runtime_error("dyn: BIE Jacobian of element type " + std::to_string(t) + " is ill-conditioned (cond_1 of D J D^-1 = " +
                                std::to_string(cond) + " > 1e12); the step or the damping is out of range");

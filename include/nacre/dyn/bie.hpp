@@ -29,6 +29,11 @@
 ///   the defaults (two iterations, force kept): start + first J^-1 apply, the interface force at
 ///   x_1, then the second iteration and the end of the step in one pass (BieIterFinalTileTag: both
 ///   use the force at x_1, so one gather and one load/store of the state serve both).
+/// - Without damping (C = 0, BieTables::block_lower) J^-1 = [[A^-1, 0], [B, I]] is built blockwise
+///   (exact zeros and identity) and the tiled apply skips them; and the last iteration takes its
+///   reduced form (BieIterFinalLinearTileTag): G_p does not involve the interface force, so the
+///   first iteration already zeroed it and the second only sets v = v_n + h/2 (a_n + a(x_1)),
+///   one nd x nd apply instead of the three K applies and the 2nd x 2nd J^-1 apply. Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
@@ -56,6 +61,9 @@ struct BieTables {
   double max_condition = 0;      ///< max over types of cond_1(D J D^-1), D = diag(I, h I) (dimensionless J)
   double max_identity_error = 0; ///< max over types of max|J~ J~^-1 - I| of that dimensionless J~
   int n2 = 0;                                     ///< 2 * nd
+  /// C = 0: every type's J^-1 is [[A^-1, 0], [B, I]] with the zero block and the identity exact
+  /// (built blockwise), so the tiled apply multiplies the first nd columns only (half the work).
+  bool block_lower = false;
 };
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
@@ -85,6 +93,7 @@ struct BieStartTileTag {};
 struct BieIterTileTag {};
 struct BieFinalTileTag {};
 struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
+struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
 /// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
@@ -95,6 +104,28 @@ struct BieIntegrator {
   DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot (unfused path)
   bool book = true;                ///< BieFinalTag: accumulate work and damping (false: a only)
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 per type (fused path)
+  /// J^-1 = [[A^-1, 0], [B, I]] exactly (BieTables::block_lower): the tiled apply sums the first
+  /// nd columns and adds the identity's term, skipping the exact zeros (false: the dense product;
+  /// the same bits on such a matrix up to the sign of a zero, tests/dyn).
+  bool block_lower = false;
+
+  /// y[q] = sum_j J(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of J^-1 (dense, or the block
+  /// structure: the same terms in the same order less the exact zeros).
+  KOKKOS_INLINE_FUNCTION void tile_jinv_rows(int t, int i0, int nq, const double (*KOKKOS_RESTRICT g)[kTile],
+                                             double (*KOKKOS_RESTRICT y)[kTile]) const {
+    const int nd = ex.nd, n = block_lower ? nd : 2 * nd;
+    for (int q = 0; q < kRowBlock; ++q)
+      for (int b = 0; b < kTile; ++b) y[q][b] = 0;
+    for (int j = 0; j < n; ++j)
+      for (int q = 0; q < kRowBlock; ++q) {
+        const double c = q < nq ? J(t, i0 + q, j) : 0.0;
+        for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
+      }
+    if (block_lower)  // the identity of the v-v block: row r >= nd gets 1 * g[r], its only term past nd
+      for (int q = 0; q < nq; ++q)
+        if (i0 + q >= nd)
+          for (int b = 0; b < kTile; ++b) y[q][b] += g[i0 + q][b];
+  }
 
   KOKKOS_INLINE_FUNCTION double minv(int t, int j) const {
     const double m = ex.mass(t, j);
@@ -327,14 +358,8 @@ struct BieIntegrator {
     const int n = 2 * ex.nd, nd = ex.nd;
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
-      for (int q = 0; q < kRowBlock; ++q)
-        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      for (int j = 0; j < n; ++j)
-        for (int q = 0; q < kRowBlock; ++q) {
-          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
-          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
-        }
+      tile_jinv_rows(t, i0, nq, g, y);
       for (int q = 0; q < nq; ++q) {
         const int row = i0 + q;
         for (int b = 0; b < nb; ++b) {
@@ -436,14 +461,8 @@ struct BieIntegrator {
     // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
-      for (int q = 0; q < kRowBlock; ++q)
-        for (int b = 0; b < kTile; ++b) y[q][b] = 0;
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      for (int j = 0; j < n; ++j)
-        for (int q = 0; q < kRowBlock; ++q) {
-          const double c = q < nq ? J(t, i0 + q, j) : 0.0;
-          for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
-        }
+      tile_jinv_rows(t, i0, nq, g, y);
       for (int q = 0; q < nq; ++q) {
         const int row = i0 + q;
         for (int b = 0; b < kTile; ++b) {
@@ -459,6 +478,45 @@ struct BieIntegrator {
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.u(e, j) = u[j][b], ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
+      if (!book) continue;
+      ex.acc(e, kWork) += work[b];
+      ex.acc(e, kDamp) += pd[b];
+      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+    }
+  }
+
+  /// BieIterFinalTileTag when C = 0 (block_lower), in its reduced form. The position residual
+  /// G_p = h v_n + h^2/2 a_n - (I + h^2/4 M^-1 K) dp does not involve the interface force, and
+  /// the first iteration solved it exactly (dp_1 = A^-1 (h v_n + h^2/2 a_n), A = I + h^2/4 M^-1 K),
+  /// so G_p(x_1) = 0 and J^-1 = [[A^-1, 0], [B, I]] leaves y_p = 0, y_v = G_v: the last iteration
+  /// is p_{n+1} = p_1, v_{n+1} = v_n + h/2 (a_n + a(x_1)), and a_{n+1} = a(x_1) (a depends on p
+  /// only, the force is kept). The full form computes the same values plus the rounding of
+  /// G_p ~ 0 times J^-1: equal to rounding (tests/dyn), at one K apply instead of three K applies
+  /// and the J^-1 apply, and no store of u.
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalLinearTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
+        v0[kMaxDof][kTile], a0[kMaxDof][kTile];
+    tile_load(t, k0, nb, f, u, v);
+    tile_acc(t, f, u, v, ax);
+    for (int b = 0; b < kTile; ++b) {
+      const bool live = b < nb;
+      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
+        v[j][b] = v0[j][b] + 0.5 * h * (a0[j][b] + ax[j][b]);
+      }
+    }
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    if (book) tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
       if (!book) continue;
       ex.acc(e, kWork) += work[b];
       ex.acc(e, kDamp) += pd[b];
@@ -613,8 +671,12 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
     for (int k = 0; k < iterations; ++k) {
       if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
         Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
-        Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled", Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw),
-                             it);
+        if (it.block_lower)
+          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
+                               Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
+        else
+          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled",
+                               Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw), it);
         return;
       }
       if (k > 0) {

@@ -71,6 +71,9 @@ struct Params {
   /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
   /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.
   bool bie_reuse_force = true;
+  /// BIE with C = 0, tiled J^-1 apply: skip the exact zero block and identity of J^-1 (half the
+  /// multiply-adds, the same bits); false = the dense product (benchmarks and tests compare them).
+  bool bie_block_structure = true;
   int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
 };
 

@@ -11,6 +11,10 @@
 #include <nacre/mc/model.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
+#if defined(__AVX512F__) && !defined(__CUDA_ARCH__)
+#include <immintrin.h>  // the batched sweep's row transpose (detail::transpose_rows)
+#endif
+
 namespace nacre::mc {
 
 /// \brief Compile-time check that kernels on ExecutionSpace may touch MemorySpace's Views.
@@ -198,6 +202,13 @@ struct PhiloxUniforms {
 /// recomputes the rest on acceptance: correct for any degree, fast for the usual one.
 inline constexpr int kTrialKeep = 12;
 
+/// \brief Trial evaluation of the sweep, one brick per thread at a time: the schedule of every
+/// backend (a GPU thread's), and the reference the batched form is tested against.
+struct ScalarTrials {};
+/// \brief Trial evaluation of the sweep on a host: kSweepLanes same-colour work items in lockstep
+/// (see sweep_colour(BatchedTrials, ...)). Same trials, same bits as ScalarTrials.
+struct BatchedTrials {};
+
 /// \brief One Metropolis trial per brick of one colour (MODEL.md §3), work items [begin, end) in
 /// parallel, the bricks of a work item (one brick, or a tile) in order. Same-colour work items
 /// share no interface, so the trials are independent; uniforms(b, r) gives brick b's four
@@ -211,7 +222,7 @@ inline constexpr int kTrialKeep = 12;
 /// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
 /// returned (an integer reduction, exact for any thread count).
 template <class ExecutionSpace, class MemorySpace, class Uniforms>
-long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
                   const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
                   double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
   check_access<ExecutionSpace, MemorySpace>();
@@ -262,6 +273,312 @@ long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int 
       },
       accepted);
   return accepted;
+}
+
+/// Marks a loop over the lanes of BatchedTrials for vectorisation (OpenMP's simd where the host
+/// compiler has OpenMP; the loops are written to vectorise without it too).
+#if defined(_OPENMP) && !defined(__CUDA_ARCH__)
+#define NACRE_MC_LANES _Pragma("omp simd")
+#else
+#define NACRE_MC_LANES
+#endif
+
+/// \brief Work items a host thread sweeps in lockstep (BatchedTrials): 8 doubles fill an AVX-512
+/// register (4 AVX2, 2 SSE2 registers: the same code, narrower instructions).
+inline constexpr int kSweepLanes = 8;
+
+namespace detail {
+/// \brief A joint kind's law constants as the batched trial reads them (the scalar code's own
+/// subexpressions, so the products round alike): indexed by kind byte.
+struct LaneLaws {
+  static_assert(geometry::kJointKinds == 3, "sweep_colour(BatchedTrials) selects among three joint kinds");
+  double k[geometry::kJointKinds], x1sq[geometry::kJointKinds], r2[geometry::kJointKinds];
+};
+inline LaneLaws lane_laws(const cohesive::LawTable& t) {
+  LaneLaws l{};
+  for (int i = 0; i < geometry::kJointKinds; ++i) {
+    const double r = 1.0 / t.law[i].x1;
+    l.k[i] = t.law[i].k, l.x1sq[i] = t.law[i].x1 * t.law[i].x1, l.r2[i] = r * r;
+  }
+  return l;
+}
+
+/// \brief rows[l] points to lane l's n consecutive doubles (n <= 8); out[c][l] = rows[l][c] for
+/// c < n (out needs 8 rows). The lanes' interface records and neighbour poses sit at unrelated
+/// addresses: read element by element they cost a load and an insert each (this CPU's gather
+/// instructions are slower still, measured), read as rows and transposed in registers (AVX-512:
+/// one masked load per lane, 24 shuffles per 8 x 8 block) they cost a few instructions per row.
+/// Pure data movement: the values, hence the bits, are the same either way.
+inline void transpose_rows(const double* const rows[kSweepLanes], int n, double (*out)[kSweepLanes]) {
+#if defined(__AVX512F__) && !defined(__CUDA_ARCH__)
+  static_assert(kSweepLanes == 8, "the AVX-512 transpose moves 8 x 8 blocks");
+  const __mmask8 m = static_cast<__mmask8>((1u << n) - 1u);  // masked loads: no read past a row
+  __m512d r[8], t[8], u[8];
+  for (int l = 0; l < 8; ++l) r[l] = _mm512_maskz_loadu_pd(m, rows[l]);
+  for (int l = 0; l < 8; l += 2) {  // [a0 b0 | a2 b2 | a4 b4 | a6 b6], [a1 b1 | a3 b3 | ...]
+    t[l] = _mm512_unpacklo_pd(r[l], r[l + 1]);
+    t[l + 1] = _mm512_unpackhi_pd(r[l], r[l + 1]);
+  }
+  for (int h = 0; h < 8; h += 4) {  // 128-bit quarters: columns {0,4}, {2,6}, {1,5}, {3,7} of 4 rows
+    u[h + 0] = _mm512_shuffle_f64x2(t[h + 0], t[h + 2], 0x88);
+    u[h + 1] = _mm512_shuffle_f64x2(t[h + 0], t[h + 2], 0xDD);
+    u[h + 2] = _mm512_shuffle_f64x2(t[h + 1], t[h + 3], 0x88);
+    u[h + 3] = _mm512_shuffle_f64x2(t[h + 1], t[h + 3], 0xDD);
+  }
+  _mm512_storeu_pd(out[0], _mm512_shuffle_f64x2(u[0], u[4], 0x88));
+  _mm512_storeu_pd(out[4], _mm512_shuffle_f64x2(u[0], u[4], 0xDD));
+  _mm512_storeu_pd(out[2], _mm512_shuffle_f64x2(u[1], u[5], 0x88));
+  _mm512_storeu_pd(out[6], _mm512_shuffle_f64x2(u[1], u[5], 0xDD));
+  _mm512_storeu_pd(out[1], _mm512_shuffle_f64x2(u[2], u[6], 0x88));
+  _mm512_storeu_pd(out[5], _mm512_shuffle_f64x2(u[2], u[6], 0xDD));
+  _mm512_storeu_pd(out[3], _mm512_shuffle_f64x2(u[3], u[7], 0x88));
+  _mm512_storeu_pd(out[7], _mm512_shuffle_f64x2(u[3], u[7], 0xDD));
+#else
+  for (int c = 0; c < n; ++c)
+    for (int l = 0; l < kSweepLanes; ++l) out[c][l] = rows[l][c];
+#endif
+}
+
+/// \brief Ask for the cache line at p (a hint; nothing where the compiler has no builtin).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p, 0, 3);
+#else
+  (void)p;
+#endif
+}
+}  // namespace detail
+
+/// \brief sweep_colour on a host execution space with the trials of kSweepLanes work items
+/// evaluated side by side (structure of arrays over the lanes, one lane per work item): lane l
+/// takes work item begin + kSweepLanes g + l, and step k of the group tries the k-th brick of
+/// every lane's work item (a tile's bricks stay in their order; single-brick work items are one
+/// step). The lanes' bricks have one colour and sit in different work items, so they share no
+/// interface and none is another's neighbour: evaluating them together changes no trial.
+///
+/// Per step, the lanes' slots j = 0, 1, ... are evaluated as one loop over the lanes without
+/// branches, which the compiler turns into vector instructions (the records and the neighbours'
+/// poses transposed from rows first, detail::transpose_rows; the elastic closed form and the
+/// penalty's sixth power as selects); a lane whose interface is not elastic everywhere takes the
+/// scalar cohesive::segment_energy for that slot. The proposal (Philox, two sines), the
+/// Metropolis test and the writes stay per lane, in the scalar code's order. The lane arithmetic
+/// is the scalar code's expression for expression, so the energies, acceptances and poses have
+/// the scalar path's bits (tests/test_mc_batched.cpp checks this on damaged and penetrating
+/// interfaces, three colourings, global and per-brick steps). Host only (a plain lambda and
+/// host intrinsics); measured slower than ScalarTrials at 300k bricks on the CPU it was written
+/// on, so the solver uses it only with NACRE_MC_BATCHED (perf/README.md, "Batched trials").
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+  check_access<ExecutionSpace, MemorySpace>();
+  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, Kokkos::HostSpace>::accessible,
+                "nacre::mc: the batched sweep is a host schedule (devices take ScalarTrials)");
+  constexpr int W = kSweepLanes;
+  auto p = m.pose;
+  auto off = m.adj_offset;
+  auto slot = m.slot;
+  auto link = m.slot_link;
+  auto skind = m.slot_kind;
+  auto tiles = m.tile_offset;
+  const cohesive::LawTable laws = m.laws;
+  const detail::LaneLaws ll = detail::lane_laws(laws);
+  const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
+  const bool per_brick = brick_steps.active();
+  auto bstep = brick_steps.step;
+  auto bacc = brick_steps.accepted;
+  // raw pointers for the lane loops, with the unpadded LayoutRight row lengths as constants (a
+  // slot's 11 numbers, a link's 2, a pose's 5): rows are then fixed-size blocks to transpose
+  constexpr int rs = col(SlotCol::count), lsr = 2, ps = 5;
+  static_assert(rs > 8 && rs <= 16 && ps <= 8, "transpose_rows moves a record in two blocks, a pose in one");
+  if (slot.stride(0) != std::size_t(rs) || link.stride(0) != std::size_t(lsr) || p.stride(0) != std::size_t(ps))
+    Kokkos::abort("nacre::mc::sweep_colour(BatchedTrials): padded model Views");
+  const double* rec = slot.data();
+  const int* lnk = link.data();
+  const std::uint8_t* kinds = skind.data();
+  const double* pose = p.data();
+  const double* cached = cache.data();
+  const int groups = (end - begin + W - 1) / W;
+  long accepted = 0;
+  Kokkos::parallel_reduce(
+      "nacre::mc::sweep_colour_batched", Kokkos::RangePolicy<ExecutionSpace>(space, 0, groups),
+      [=](const int g, long& acc) {
+        // pointers and the laws' constants as locals (registers), not loads from the closure
+        // inside the lane loops (which the vectoriser cannot hoist)
+        const double* const rec_l = rec;
+        const int* const lnk_l = lnk;
+        const std::uint8_t* const kinds_l = kinds;
+        const double* const pose_l = pose;
+        const double* const cached_l = cached;
+        const Uniforms uni = uniforms;
+        const double k0 = ll.k[0], k1 = ll.k[1], k2 = ll.k[2];
+        const double xs0 = ll.x1sq[0], xs1 = ll.x1sq[1], xs2 = ll.x1sq[2];
+        const double rr0 = ll.r2[0], rr1 = ll.r2[1], rr2 = ll.r2[2];
+        int first[W], last[W];
+        int kmax = 0;
+        for (int l = 0; l < W; ++l) {
+          const int w = begin + g * W + l;
+          first[l] = w < end ? tiles(w) : 0;
+          last[l] = w < end ? tiles(w + 1) : 0;
+          kmax = Kokkos::max(kmax, last[l] - first[l]);
+        }
+        for (int k = 0; k < kmax; ++k) {
+          int act[W], bl[W], j0[W], deg[W];
+          double fx[W], fy[W], ft[W], fs[W], fc[W], u3[W], uu[3][W];
+          for (int l = 0; l < W; ++l) {
+            act[l] = first[l] + k < last[l];
+            bl[l] = act[l] ? first[l] + k : 0;  // idle lanes draw for brick 0 (it exists), unused
+          }
+          // Prefetch the records (and links) of the brick each lane tries next: the next brick of
+          // its tile, or its work item in the next group. Slot jj of 8 lanes touches 8 records
+          // 0.5-4 KB apart, a pattern the hardware prefetcher follows worse than the scalar
+          // sweep's one stream; one step ahead (8 trials, ~1 us) covers the memory latency.
+          for (int l = 0; l < W; ++l) {
+            const int w_next = begin + (g + 1) * W + l;
+            const int nb = first[l] + k + 1 < last[l] ? first[l] + k + 1 : (w_next < end ? tiles(w_next) : -1);
+            if (nb < 0) continue;
+            const int ja = off(nb), jb = off(nb + 1);
+            for (const char* q = reinterpret_cast<const char*>(rec_l + ja * rs);
+                 q < reinterpret_cast<const char*>(rec_l + jb * rs); q += 64)
+              detail::prefetch(q);
+            detail::prefetch(lnk_l + ja * lsr);
+          }
+          // the proposal: the uniforms of all lanes in one loop (Philox is integer arithmetic the
+          // vector unit does lane by lane), the trial poses, then the two sines per lane (libm)
+          NACRE_MC_LANES
+          for (int l = 0; l < W; ++l) {
+            double u[4];
+            uni(bl[l], u);
+            uu[0][l] = u[0], uu[1][l] = u[1], uu[2][l] = u[2], u3[l] = u[3];
+          }
+          int dmax = 0;
+          for (int l = 0; l < W; ++l) {
+            const int b = bl[l];
+            const kinematics::Frame f_old = frame_of(p, b);
+            const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
+            const kinematics::Pose trial{f_old.x + s * (2.0 * uu[0][l] - 1.0), f_old.y + s * (2.0 * uu[1][l] - 1.0),
+                                         f_old.t + sr * (2.0 * uu[2][l] - 1.0)};
+            const kinematics::Frame f = kinematics::make_frame(trial);
+            fx[l] = f.x, fy[l] = f.y, ft[l] = f.t, fs[l] = f.s, fc[l] = f.c1;
+            j0[l] = off(b), deg[l] = act[l] ? off(b + 1) - j0[l] : 0;
+            dmax = Kokkos::max(dmax, deg[l]);
+          }
+          double e_old[W], e_new[W], keep[kTrialKeep][W];
+          for (int l = 0; l < W; ++l) e_old[l] = e_new[l] = 0.0;
+          for (int jj = 0; jj < dmax; ++jj) {
+            int js[W], on[W], general[W], kind[W];  // int, not bool / uint8: 32-bit lanes the vector unit gathers and masks
+            double en[W], eo[W];
+            for (int l = 0; l < W; ++l) {
+              on[l] = jj < deg[l];
+              js[l] = on[l] ? j0[l] + jj : 0;  // idle lanes read slot 0 (it exists)
+              kind[l] = kinds_l[js[l]];          // bytes: no byte gathers, so loaded here
+            }
+            // the lanes' records and their neighbours' poses, transposed to one row per field
+            double rc[16][W], po[8][W];
+            {
+              const double* rows[W];
+              for (int l = 0; l < W; ++l) rows[l] = rec_l + js[l] * rs;
+              detail::transpose_rows(rows, 8, rc);
+              for (int l = 0; l < W; ++l) rows[l] += 8;
+              detail::transpose_rows(rows, rs - 8, rc + 8);
+              for (int l = 0; l < W; ++l) rows[l] = pose_l + lnk_l[js[l] * lsr] * ps;
+              detail::transpose_rows(rows, ps, po);
+            }
+            // slot jj of every lane, branch-free (vectorised): slot_energy's arithmetic with the
+            // elastic closed form and the penalty (cohesive::integrate, penalty_integral) as selects
+            NACRE_MC_LANES
+            for (int l = 0; l < W; ++l) {
+              const int j = js[l];
+              auto r = [&](SlotCol c) { return rc[col(c)][l]; };
+              const int kd = kind[l];
+              // the kind's constants by selects (3 kinds), not a gather from the closure
+              const double lk = kd == 0 ? k0 : (kd == 1 ? k1 : k2);
+              const double x1sq = kd == 0 ? xs0 : (kd == 1 ? xs1 : xs2);
+              const double r2 = kd == 0 ? rr0 : (kd == 1 ? rr1 : rr2);
+              const kinematics::Frame f{fx[l], fy[l], ft[l], fs[l], fc[l]};
+              const kinematics::Frame fo{po[0][l], po[1][l], po[2][l], po[3][l], po[4][l]};
+              using C = SlotCol;
+              double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
+              kinematics::point_displacement(f, r(C::r0x), r(C::r0y), a0x, a0y);
+              kinematics::point_displacement(f, r(C::r1x), r(C::r1y), a1x, a1y);
+              kinematics::point_displacement(fo, r(C::o0x), r(C::o0y), b0x, b0y);
+              kinematics::point_displacement(fo, r(C::o1x), r(C::o1y), b1x, b1y);
+              const double tm = 0.5 * (f.t + fo.t), rnx = r(C::nx), rny = r(C::ny);
+              const double g0x = b0x - a0x, g0y = b0y - a0y, g1x = b1x - a1x, g1y = b1y - a1y;
+              const double nx = rnx - tm * rny, ny = rny + tm * rnx;
+              const double d0 = g0x * g0x + g0y * g0y, d1 = g1x * g1x + g1y * g1y;
+              const double ef = lk * (d0 + g0x * g1x + g0y * g1y + d1) * (1.0 / 6.0);
+              // penalty_integral, its three cases (both ends penetrate, entering, leaving) as selects
+              const double q0 = g0x * nx + g0y * ny, q1 = g1x * nx + g1y * ny;
+              const bool enters = q0 >= 0.0, pen = !(enters & (q1 >= 0.0)), leaves = !enters & (q1 >= 0.0);  // & not &&: no branches
+              const double den = q0 - q1;
+              const double root = q0 / (den != 0.0 ? den : 1.0);
+              const double sa = enters ? root : 0.0, sb = leaves ? root : 1.0;
+              const double inv = 1.0 / Kokkos::sqrt(nx * nx + ny * ny);
+              const double da = (enters ? 0.0 : q0) * inv, db = (leaves ? 0.0 : q1) * inv;
+              const double v = da + db, v2 = v * v;
+              const double a2 = da * da, a3 = a2 * da, b2 = db * db, b3 = b2 * db;
+              // both forms computed, one selected (no conditional arithmetic: the loop stays one block)
+              const double sum_cross = v2 * v2 * v2;
+              const double sum_both = a3 * a3 + a3 * a2 * db + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + da * b2 * b3 + b3 * b3;
+              const double sum = ((da == 0.0) | (db == 0.0)) ? sum_cross : sum_both;
+              const double ep_any = (sb - sa) * 0.0625 * lk * r2 * r2 * sum * (1.0 / 7.0);
+              const double ep = pen ? ep_any : 0.0;
+              en[l] = r(C::length) * (ef + ep);
+              general[l] = on[l] & int(!((d0 <= x1sq) & (d1 <= x1sq)));
+              eo[l] = cached_l[lnk_l[j * lsr + 1]];
+            }
+            for (int l = 0; l < W; ++l)  // not elastic everywhere: the exact piecewise integral, per lane
+              if (general[l])
+                en[l] = slot_energy(slot, js[l], laws[skind(js[l])],
+                                    kinematics::Frame{fx[l], fy[l], ft[l], fs[l], fc[l]}, frame_of(p, link(js[l], 0)));
+            for (int l = 0; l < W; ++l) {
+              e_old[l] = on[l] ? e_old[l] + eo[l] : e_old[l];
+              e_new[l] = on[l] ? e_new[l] + en[l] : e_new[l];
+            }
+            if (jj < kTrialKeep)
+              for (int l = 0; l < W; ++l) keep[jj][l] = en[l];
+          }
+          for (int l = 0; l < W; ++l) {  // Metropolis and the writes, per lane as in ScalarTrials
+            if (!act[l]) continue;
+            const int b = first[l] + k;
+            const double d = e_new[l] - e_old[l];
+            const bool accept = d <= 0.0 || (inv_t > 0.0 && u3[l] < Kokkos::exp(-d * inv_t));
+            if (accept) {
+              const kinematics::Frame f_new{fx[l], fy[l], ft[l], fs[l], fc[l]};
+              store_frame(p, b, f_new);
+              for (int j = j0[l]; j < j0[l] + deg[l]; ++j)
+                cache(link(j, 1)) = j - j0[l] < kTrialKeep ? keep[j - j0[l]][l]
+                                                           : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
+              acc += 1;
+              if (per_brick) bacc(b) += 1;
+            }
+            de(b) = accept ? d : 0.0;
+          }
+        }
+      },
+      accepted);
+  return accepted;
+}
+
+/// \brief The sweep as the solver runs it: ScalarTrials, or with NACRE_MC_BATCHED=ON BatchedTrials
+/// on a host execution space (a device always keeps its per-thread code). Batched is not the
+/// default because it does not pay on the CPU it was measured on at 300k bricks
+/// (perf/results/mc/sweep_simd/, perf/README.md); the two give the same bits.
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+#ifdef NACRE_MC_BATCHED_SWEEP  // cmake -DNACRE_MC_BATCHED=ON (src/mc/mc.cmake); OFF by default
+  if constexpr (Kokkos::SpaceAccessibility<ExecutionSpace, Kokkos::HostSpace>::accessible)
+#else
+  if constexpr (false)
+#endif
+    return sweep_colour(BatchedTrials{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                        brick_steps);
+  else
+    return sweep_colour(ScalarTrials{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                        brick_steps);
 }
 
 /// \brief The same without a caller-held cache (tests, one-off sweeps): fills a temporary one
