@@ -18,13 +18,6 @@ using namespace nacre;
 
 namespace {
 
-deck::Deck notched_deck() {
-  deck::Deck d;
-  test::notched_21x8(d);
-  d.load.tension = 1.0, d.load.bending = 0.5;
-  return d;
-}
-
 struct Run {
   std::vector<double> pose, cache, de;
   long accepted = 0;
@@ -80,7 +73,7 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 template <class Space>
 void compare_paths() {
   if constexpr (Kokkos::SpaceAccessibility<Space, Kokkos::HostSpace>::accessible) {
-    const auto d = notched_deck();
+    const auto d = test::notched_21x8_deck();
     auto s = geometry::build_specimen(d.geometry);
     const auto f = geometry::find_interfaces(s, d.geometry);
     const auto adj = geometry::build_adjacency(s.size(), f);

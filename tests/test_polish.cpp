@@ -19,9 +19,7 @@ namespace {
 
 /// A notched specimen (21 x 8, notch 8) that cracks by D = 0.02.
 deck::Deck notched_deck() {
-  deck::Deck d;
-  test::notched_21x8(d);
-  d.load.tension = 1.0, d.load.bending = 0.5;
+  auto d = test::notched_21x8_deck();
   d.load.final_displacement = 0.02;
   d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
   d.load.adaptive = true, d.load.predictor = true;

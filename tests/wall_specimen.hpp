@@ -45,4 +45,12 @@ inline void notched_21x8(deck::Deck& d) {
   d.mortar.head = {100.0, 0.001, 0.002};
 }
 
+/// A default deck on that specimen, loaded in tension + bending (opening D/2 (1 + 0.5 (1 - x/w))).
+inline deck::Deck notched_21x8_deck() {
+  deck::Deck d;
+  notched_21x8(d);
+  d.load.tension = 1.0, d.load.bending = 0.5;
+  return d;
+}
+
 }  // namespace nacre::test
