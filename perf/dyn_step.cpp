@@ -10,6 +10,11 @@
 //
 //   nacre_perf_dyn_step --bricks 10000,50000,100000 --methods ue,be --steps 200 --csv FILE
 //
+// Damping (default none, C = 0): --damping table42 sets Rayleigh C = alpha_d M + beta_d K from
+// Table 4.2 (dyn::table_4_2_damping: nearest tabulated brick count to --bricks, nearest ratio);
+// --alpha/--beta (1/s, s) give them directly. Damped runs use each method's step found with the
+// damping of that size, capped by its undamped one (see below), so dt is per method and size.
+//
 // Run once per thread count (--kokkos-num-threads=N); perf/run_dyn_bench.sh does that and charts.
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
@@ -122,6 +127,12 @@ int main(int argc, char* argv[]) {
   cli.add_option("--ratio", ratio, "stiffness ratio r");
   std::string apply = "automatic";
   cli.add_option("--apply", apply, "element apply: automatic, per_element or tiled");
+  std::string damping = "none";
+  cli.add_option("--damping", damping, "Rayleigh damping: none or table42 (Table 4.2 by brick count and ratio)")
+      ->check(CLI::IsMember({"none", "table42"}));
+  double alpha_opt = -1, beta_opt = -1;
+  cli.add_option("--alpha", alpha_opt, "Rayleigh alpha_d, 1/s (with --beta; overrides --damping)");
+  cli.add_option("--beta", beta_opt, "Rayleigh beta_d, s (with --alpha; overrides --damping)");
   cli.add_option("--triad-n", triad_n, "doubles per triad array");
   cli.add_option("--csv", csv)->required();
   cli.add_option("--profile-csv", profile_csv,
@@ -129,6 +140,16 @@ int main(int argc, char* argv[]) {
                  "ms per step per kernel appended here");
   cli.allow_extras();
   CLI11_PARSE(cli, argc, argv);
+  if ((alpha_opt >= 0) != (beta_opt >= 0)) {
+    std::cerr << "[dyn_step] --alpha and --beta go together (both >= 0)\n";
+    return 2;
+  }
+  // Rayleigh (alpha_d, beta_d) for a specimen of ~n bricks
+  auto damping_for = [&](long n, double& a, double& b) {
+    a = 0, b = 0;
+    if (alpha_opt >= 0) a = alpha_opt, b = beta_opt;
+    else if (damping == "table42") dyn::table_4_2_damping(static_cast<std::size_t>(n), ratio, a, b);
+  };
 
   const Kokkos::DefaultExecutionSpace space;
   const int threads = space.concurrency();
@@ -141,15 +162,41 @@ int main(int argc, char* argv[]) {
   if (header)
     out << "method,bricks,threads,element_types,steps,seconds_per_step,bytes_per_step,state_bytes,device_bytes,"
            "bytes_per_brick,bytes_per_brick_unshared,effective_bandwidth,triad_bandwidth,bound_ratio,dt,"
-           "cpu_seconds_per_step,triad_bandwidth_cpu,bound_ratio_cpu,bytes_per_step_held\n";
-  // a stable step per method from a small specimen of the same bricks (the critical step is local)
-  std::map<std::string, double> dt;
-  for (const auto& mname : methods) {
+           "cpu_seconds_per_step,triad_bandwidth_cpu,bound_ratio_cpu,bytes_per_step_held,alpha_d,beta_d\n";
+  // a stable step per method (and per damping: per size when damped) from a small specimen of the
+  // same bricks (the critical step is local)
+  std::map<std::pair<std::string, long>, double> dt;
+  {
     const deck::Deck ds = deck_for(600, ratio);
     geometry::Specimen ss = geometry::build_specimen(ds.geometry);
     const geometry::Interfaces fs = geometry::find_interfaces(ss, ds.geometry);
-    dt[mname] = 0.5 * dyn::critical_step(params_for(ds, method_of(mname)), ss, fs,
-                                         ds.mortar, 1000, 0.05);
+    std::map<std::pair<std::string, std::pair<double, double>>, double> found;
+    for (long n : sizes)
+      for (const auto& mname : methods) {
+        dyn::Params q = params_for(ds, method_of(mname));
+        damping_for(n, q.alpha_d, q.beta_d);
+        q.bie_block_structure = mname != "bie_dense";
+        const auto key = std::make_pair(mname, std::make_pair(q.alpha_d, q.beta_d));
+        if (!found.count(key)) {
+          double h = dyn::critical_step(q, ss, fs, ds.mortar, 1000, 0.05);
+          if (q.alpha_d != 0 || q.beta_d != 0) {
+            // Damped, the bisection's 1000-step trial can pass unstable steps: BE's (M + h/2 C)^-1
+            // (central differences, average velocity) keeps the undamped limit h omega_max <= 2
+            // whatever C, but above it the growth per step ~ (Omega^2 - 4) / (2 xi Omega) is small
+            // for xi ~ 1e2 (BE at 0.5 x the damped bisection's step, 600 bricks, Table 4.2 at 10k:
+            // blow-up at step 2690). So the step is min(damped, undamped) critical step.
+            dyn::Params q0 = q;
+            q0.alpha_d = q0.beta_d = 0;
+            const double h0 = dyn::critical_step(q0, ss, fs, ds.mortar, 1000, 0.05);
+            std::cout << "[dyn_step] " << mname << " critical step damped " << h << " s, undamped " << h0 << " s\n";
+            h = std::min(h, h0);
+          }
+          found[key] = 0.5 * h;
+          std::cout << "[dyn_step] " << mname << " alpha_d " << q.alpha_d << " /s, beta_d " << q.beta_d
+                    << " s: dt = 0.5 x critical = " << found[key] << " s (600 bricks, rtol 0.05)\n";
+        }
+        dt[{mname, n}] = found[key];
+      }
   }
   for (long n : sizes) {
     const deck::Deck d = deck_for(n, ratio);
@@ -158,7 +205,8 @@ int main(int argc, char* argv[]) {
     for (const auto& mname : methods) {
       const dyn::Method m = method_of(mname);
       dyn::Params p = params_for(d, m);
-      p.dt = dt[mname];
+      p.dt = dt[{mname, n}];
+      damping_for(n, p.alpha_d, p.beta_d);
       p.bie_block_structure = mname != "bie_dense";  // bie_dense: dense J^-1 apply and full last iteration (the comparison)
       p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
                         : apply == "per_element" ? dyn::ElementApply::per_element
@@ -197,7 +245,7 @@ int main(int argc, char* argv[]) {
       out << mname << "," << sim.bricks() << "," << threads << "," << sim.element_types() << "," << steps << ","
           << best << "," << moved << "," << st << "," << held << "," << static_cast<double>(held) / nb << ","
           << static_cast<double>(unshared) / nb << "," << eff << "," << triad << "," << triad / eff << "," << p.dt
-          << "," << best_cpu << "," << triad_cpu << "," << bound_cpu << "," << held << "\n";
+          << "," << best_cpu << "," << triad_cpu << "," << bound_cpu << "," << held << "," << p.alpha_d << "," << p.beta_d << "\n";
       out.flush();
       if (!profile_csv.empty()) {
         const bool ph = !std::ifstream(profile_csv).good();

@@ -7,7 +7,8 @@
 # NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie; bie_dense = BIE with the dense
 # J^-1 apply and full last iteration, the comparison for the undamped reduced form); pass them with env:
 # devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
-# Thread counts NACRE_DYN_THREADS (default "1 2"). NACRE_DYN_NATIVE=1 builds and runs the
+# Damping NACRE_DYN_DAMPING (default none; table42 = Rayleigh C from Table 4.2 by brick count, each
+# method's step then found with that damping). Thread counts NACRE_DYN_THREADS (default "1 2"). NACRE_DYN_NATIVE=1 builds and runs the
 # -march=native build of the kernels instead (build/native, CMake option NACRE_DYN_NATIVE=ON;
 # numbers not bit-for-bit those of the default build; report it as a separate row).
 # Writes OUTDIR/{dyn_step.csv, dyn_step_profile.csv (ms per step per kernel, one extra block per
@@ -32,6 +33,7 @@ for nt in ${NACRE_DYN_THREADS:-1 2}; do
   echo "[perf] time per step, $nt thread(s)"
   "$bdir"/perf/nacre_perf_dyn_step --bricks "${NACRE_DYN_SIZES:-10000,50000,100000,200000}" \
     --methods "${NACRE_DYN_METHODS:-ue,be,bie}" --steps "${NACRE_DYN_STEPS:-100}" --blocks "${NACRE_DYN_BLOCKS:-3}" \
+    --damping "${NACRE_DYN_DAMPING:-none}" \
     --csv "$out/dyn_step.csv" --profile-csv "$out/dyn_step_profile.csv" --kokkos-num-threads=$nt
 done
 echo "$(date -u +%FT%TZ) end: load average $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/machine.txt"

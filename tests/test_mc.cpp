@@ -8,6 +8,8 @@
 #include <catch2/catch_approx.hpp>
 #include <catch2/catch_test_macros.hpp>
 
+#include "wall_specimen.hpp"
+
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -96,9 +98,7 @@ double exact_elastic_energy(const deck::Deck& d, const geometry::Specimen& s, co
 /// A notched specimen that cracks within a few adaptive load steps, with predictor.
 deck::Deck cracking_deck() {
   auto d = small_deck();
-  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
+  test::notched_21x8(d);
   d.load.final_displacement = 0.02;
   d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
   d.load.adaptive = true, d.load.predictor = true;
@@ -192,14 +192,11 @@ TEST_CASE("the sweep's interface-energy cache holds each interface's energy at t
   // acceptance (its own and the neighbours' shared entries): after many sweeps the cache must be
   // exactly what a fresh evaluation gives, elastic and damaged interfaces alike, on both schedules.
   const auto d = cracking_deck();
-  const auto st = make(d);
-  const auto adj = geometry::build_adjacency(st.s.size(), st.f);
-  std::vector<bool> free(st.s.size());
-  for (std::size_t i = 0; i < st.s.size(); ++i) free[i] = st.s.drive[i] == geometry::Drive::free;
+  const auto w = test::wall_of(d.geometry);
   const ExecSpace space;
   for (const char* colouring : {"natural", "tiles"}) {
     CAPTURE(colouring);
-    auto m = mc::build_model(space, st.s, st.f, adj, mc::colour_graph(colouring, st.s, adj, free, 1), d.mortar, 4);
+    auto m = mc::build_model(space, w.s, w.f, w.adj, mc::colour_graph(colouring, w.s, w.adj, w.free, 1), d.mortar, 4);
     mc::apply_load(space, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.012);
     Field<double> cache("nacre::test::cache", m.n_interfaces), fresh("nacre::test::fresh", m.n_interfaces);
     Field<double> de("nacre::test::de", m.n_free);
@@ -237,18 +234,15 @@ TEST_CASE("Philox numbers generated inside the sweep are those of the Philox tab
   // The solver draws Philox in place (PhiloxUniforms) instead of filling the table first: the
   // same trials must come out, bit for bit, as from the table PhiloxSource fills.
   const auto d = cracking_deck();
-  const auto st = make(d);
-  const auto adj = geometry::build_adjacency(st.s.size(), st.f);
-  std::vector<bool> free(st.s.size());
-  for (std::size_t i = 0; i < st.s.size(); ++i) free[i] = st.s.drive[i] == geometry::Drive::free;
+  const auto w = test::wall_of(d.geometry);
   const ExecSpace space;
-  const auto c = mc::colour_graph("tiles", st.s, adj, free, 1);
+  const auto c = mc::colour_graph("tiles", w.s, w.adj, w.free, 1);
   const std::uint64_t seed = 0x5eed1234abcdull;
   rng::PhiloxSource source(seed);
   std::vector<double> poses[2];
   long accepted[2] = {0, 0};
   for (int in_place = 0; in_place < 2; ++in_place) {
-    auto m = mc::build_model(space, st.s, st.f, adj, c, d.mortar, 4);
+    auto m = mc::build_model(space, w.s, w.f, w.adj, c, d.mortar, 4);
     mc::apply_load(space, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.006);
     Field<double> cache("nacre::test::cache", m.n_interfaces), de("nacre::test::de", m.n_free);
     rng::UniformTable<> u("nacre::test::u", m.n_free);

@@ -9,22 +9,14 @@
 
 #include <catch2/catch_test_macros.hpp>
 
+#include "wall_specimen.hpp"
+
 #include <cstring>
 #include <vector>
 
 using namespace nacre;
 
 namespace {
-
-deck::Deck notched_deck() {
-  deck::Deck d;
-  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
-  d.geometry.brick_width = 3.5, d.geometry.brick_height = 1.0;
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
-  d.load.tension = 1.0, d.load.bending = 0.5;
-  return d;
-}
 
 struct Run {
   std::vector<double> pose, cache, de;
@@ -81,7 +73,7 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 template <class Space>
 void compare_paths() {
   if constexpr (Kokkos::SpaceAccessibility<Space, Kokkos::HostSpace>::accessible) {
-    const auto d = notched_deck();
+    const auto d = test::notched_21x8_deck();
     auto s = geometry::build_specimen(d.geometry);
     const auto f = geometry::find_interfaces(s, d.geometry);
     const auto adj = geometry::build_adjacency(s.size(), f);

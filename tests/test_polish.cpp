@@ -7,6 +7,8 @@
 #include <catch2/catch_approx.hpp>
 #include <catch2/catch_test_macros.hpp>
 
+#include "wall_specimen.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -17,12 +19,7 @@ namespace {
 
 /// A notched specimen (21 x 8, notch 8) that cracks by D = 0.02.
 deck::Deck notched_deck() {
-  deck::Deck d;
-  d.geometry.width = 21, d.geometry.height = 8, d.geometry.notch_length = 8, d.geometry.notch_y = 4;
-  d.geometry.brick_width = 3.5, d.geometry.brick_height = 1.0;
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
-  d.load.tension = 1.0, d.load.bending = 0.5;
+  auto d = test::notched_21x8_deck();
   d.load.final_displacement = 0.02;
   d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
   d.load.adaptive = true, d.load.predictor = true;

@@ -136,22 +136,18 @@ TEST_CASE("bie: the J^-1 apply variants give the same result to rounding", "[dyn
   // and whole runs: the same energies to rounding for every variant
   const auto st2 = make(wall(4, 6));
   std::vector<double> strain;
-  for (auto v : {dyn::BieSolve::row, dyn::BieSolve::reordered, dyn::BieSolve::shared_gemm}) {
+  auto strain_after_300 = [&](const auto& configure) {
     auto p = loaded(500, dyn::Method::bie);
-    p.bie_solve = v;
+    configure(p);
     p.dt = 10 * estimate(p, st2);
     dyn::Simulation sim(p, st2.s, st2.f, mortar());
     REQUIRE(sim.advance(Exec{}, 300));
     strain.push_back(sim.energies().strain);
-  }
-  {  // shared_gemm with the dense J^-1 and the full last iteration: the same form as row
-    auto p = loaded(500, dyn::Method::bie);
-    p.bie_block_structure = false;
-    p.dt = 10 * estimate(p, st2);
-    dyn::Simulation sim(p, st2.s, st2.f, mortar());
-    REQUIRE(sim.advance(Exec{}, 300));
-    strain.push_back(sim.energies().strain);
-  }
+  };
+  for (auto v : {dyn::BieSolve::row, dyn::BieSolve::reordered, dyn::BieSolve::shared_gemm})
+    strain_after_300([v](auto& p) { p.bie_solve = v; });
+  // shared_gemm with the dense J^-1 and the full last iteration: the same form as row
+  strain_after_300([](auto& p) { p.bie_block_structure = false; });
   INFO("strain row " << strain[0] << " reordered " << strain[1] << " shared_gemm (reduced) " << strain[2]
                      << " shared_gemm (dense) " << strain[3]);
   CHECK(std::abs(strain[1] - strain[0]) <= 1e-12 * strain[0]);
