@@ -308,13 +308,9 @@ long Solver::cycle() {
                         S.min_rot_step * step_floor_, S.max_rot_step, acceptance_target_);
     } else if (window_trials_ > 0) {
       const double a = static_cast<double>(window_accepted_) / static_cast<double>(window_trials_);
-      if (acceptance_target_ == 0.5) {
-        step_ = adapted_step(step_, a, S.min_step, S.max_step);
-        rot_step_ = adapted_step(rot_step_, a, S.min_rot_step, S.max_rot_step);
-      } else {
-        step_ = adapted_step(step_, a, S.min_step * step_floor_, S.max_step, acceptance_target_);
-        rot_step_ = adapted_step(rot_step_, a, S.min_rot_step * step_floor_, S.max_rot_step, acceptance_target_);
-      }
+      // (anneal() always runs per-brick steps: its lower target and floors never reach here)
+      step_ = adapted_step(step_, a, S.min_step, S.max_step);
+      rot_step_ = adapted_step(rot_step_, a, S.min_rot_step, S.max_rot_step);
     }
     window_accepted_ = window_trials_ = 0;
   }

@@ -622,8 +622,10 @@ KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double
 
 /// \brief The same rule about another acceptance target (band target +- 0.1, factor
 /// 1 + a - target): annealing at T -> 0 cannot reach eq. 2.7's 0.5 (a descent-only chain
-/// accepts at most half of small trials), so it aims lower (Solver::anneal).
+/// accepts at most half of small trials), so it aims lower (Solver::anneal). Target 0.5 is
+/// eq. 2.7 itself, with its own expression (its bits).
 KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double hi, double target) {
+  if (target == 0.5) return adapted_step(s, a, lo, hi);
   return (a < target - 0.1 || a > target + 0.1) ? Kokkos::clamp(s * (1.0 + (a - target)), lo, hi) : s;
 }
 
@@ -639,10 +641,8 @@ void adapt_brick_steps(const ExecutionSpace& space, const BrickSteps<MemorySpace
       "nacre::mc::adapt_brick_steps", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_free),
       KOKKOS_LAMBDA(const int b) {
         const double a = static_cast<double>(acc(b)) / interval;
-        step(b, 0) = target == 0.5 ? adapted_step(step(b, 0), a, min_step, max_step)
-                                   : adapted_step(step(b, 0), a, min_step, max_step, target);
-        step(b, 1) = target == 0.5 ? adapted_step(step(b, 1), a, min_rot, max_rot)
-                                   : adapted_step(step(b, 1), a, min_rot, max_rot, target);
+        step(b, 0) = adapted_step(step(b, 0), a, min_step, max_step, target);
+        step(b, 1) = adapted_step(step(b, 1), a, min_rot, max_rot, target);
         acc(b) = 0;
       });
 }

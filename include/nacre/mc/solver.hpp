@@ -94,10 +94,11 @@ public:
   PolishResult polish(const std::string& method = "", double tolerance = 0);
   /// \brief Simulated annealing to a residual (issue 9 §0, the alternative to a gradient polish):
   /// Monte Carlo cycles at a temperature halved every `AdaptInter` cycles from the deck's TEMP
-  /// (and 0 once it is below 1e-12 of it), step sizes adapted as in the run but with their floors
-  /// lifted (MinStepSize and MinRotSize times 1e-6) so the trial moves can shrink to the distance
+  /// (and 0 once it is below 1e-12 of it), with per-brick step sizes (whatever the run's
+  /// step_mode) adapted by eq. 2.7's rule about an acceptance of 0.2 instead of 0.5, their floors
+  /// lowered (MinStepSize and MinRotSize times 1e-6) so the trial moves can shrink to the distance
   /// from the minimum; the residual is checked after every block of `AdaptInter` cycles.
-  /// Iterations are cycles; the step sizes of the run are restored afterwards.
+  /// Iterations are cycles; the run's own step sizes are untouched.
   PolishResult anneal(const PolishOptions& o);
   /// \brief The scales the residual is measured against.
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
@@ -181,8 +182,8 @@ private:
   PhaseTimes times_;
   double D_ = 0, E_ = 0, step_, rot_step_;
   double temperature_;        ///< of the sweep: the deck's TEMP, lower while anneal() runs
-  double step_floor_ = 1.0;   ///< factor on MinStepSize / MinRotSize (1e-6 while anneal() runs)
-  double acceptance_target_ = 0.5;  ///< of the step adaptation (eq. 2.7: 0.5; lower while anneal() runs)
+  double step_floor_ = 1.0;   ///< factor on the per-brick steps' floors (1e-6 while anneal() runs)
+  double acceptance_target_ = 0.5;  ///< of the per-brick step adaptation (eq. 2.7: 0.5; 0.2 while anneal() runs)
   long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
   long accepted_total_ = 0, trials_total_ = 0;
   long cycle_limit_ = 0;
