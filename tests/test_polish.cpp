@@ -238,6 +238,31 @@ TEST_CASE("annealing T to 0 reaches the residual and FIRE's minimum, the same bi
   CHECK(ea == Catch::Approx(ef).epsilon(1e-8));
 }
 
+TEST_CASE("a stop request ends an anneal after its block, the run's steps restored", "[mc][polish][anneal]") {
+  // SIGINT / SIGTERM reach the solver through should_stop: a long anneal must honour it, as the
+  // Monte Carlo phase does, not run on to its tolerance or its cap.
+  auto d = test::notched_21x8_deck();
+  d.solver.residual_tolerance = 1e-9;
+  d.solver.polish_iterations = 1000000;
+  d.solver.adapt_interval = 20;
+  d.output.hdf5 = false, d.output.charts = false;
+  const auto st = make(d);
+  mc::Solver solver(d, st.s, st.f);
+  solver.set_load(0.006);
+  for (int c = 0; c < 100; ++c) solver.cycle();
+  const double step = solver.step_size(), rot = solver.rot_step();
+  int asked = 0;
+  solver.should_stop = [&] { return ++asked >= 3; };
+  const auto p = solver.polish("anneal");
+  CHECK(solver.interrupted());
+  CHECK_FALSE(p.converged);
+  CHECK(asked == 3);
+  CHECK(p.iterations == 3 * d.solver.adapt_interval);  // three blocks, then stopped
+  CHECK(solver.step_size() == step);
+  CHECK(solver.rot_step() == rot);
+  CHECK(solver.tracked_energy() == solver.energy());
+}
+
 TEST_CASE("converged run: the reaction column is dE/dD of the energy column, after the peak too",
           "[mc][physics][reaction]") {
   auto d = notched_deck();

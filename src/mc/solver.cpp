@@ -247,6 +247,10 @@ PolishResult Solver::anneal(const PolishOptions& o) {
     r.iterations += static_cast<int>(block);
     T *= 0.5;
     r.residual = polisher_.residual(space_, m_, scale_);
+    if (should_stop && should_stop()) {  // a long anneal must not hold off SIGINT / SIGTERM
+      interrupted_ = true;
+      break;
+    }
   }
   temperature_ = T0;
   step_floor_ = 1.0;
@@ -372,6 +376,7 @@ long Solver::relax(bool& converged) {
     const PolishResult p = polish();
     step_polish_ += p.iterations;
     residual_ = p.residual;
+    if (interrupted_) break;  // stopped inside the polish (anneal)
     if (!by_residual) {
       converged = window;
       break;

@@ -98,7 +98,8 @@ public:
   /// step_mode) adapted by eq. 2.7's rule about an acceptance of 0.2 instead of 0.5, their floors
   /// lowered (MinStepSize and MinRotSize times 1e-6) so the trial moves can shrink to the distance
   /// from the minimum; the residual is checked after every block of `AdaptInter` cycles.
-  /// Iterations are cycles; the run's own step sizes are untouched.
+  /// Iterations are cycles; the run's own step sizes are untouched. `should_stop` is asked after
+  /// every block: true ends the anneal unconverged with interrupted() set.
   PolishResult anneal(const PolishOptions& o);
   /// \brief The scales the residual is measured against.
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
