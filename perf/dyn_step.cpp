@@ -12,6 +12,7 @@
 //
 // Damping (default none, C = 0): --damping table42 sets Rayleigh C = alpha_d M + beta_d K from
 // Table 4.2 (dyn::table_4_2_damping: nearest tabulated brick count to --bricks, nearest ratio);
+// table42_mass its alpha_d only (beta_d = 0, the README BIE deck's damping);
 // --alpha/--beta (1/s, s) give them directly. Damped runs use each method's step found with the
 // damping of that size, capped by its undamped one (see below), so dt is per method and size.
 //
@@ -128,8 +129,10 @@ int main(int argc, char* argv[]) {
   std::string apply = "automatic";
   cli.add_option("--apply", apply, "element apply: automatic, per_element or tiled");
   std::string damping = "none";
-  cli.add_option("--damping", damping, "Rayleigh damping: none or table42 (Table 4.2 by brick count and ratio)")
-      ->check(CLI::IsMember({"none", "table42"}));
+  cli.add_option("--damping", damping,
+                 "Rayleigh damping: none, table42 (Table 4.2 by brick count and ratio) or table42_mass (its alpha_d "
+                 "only, beta_d = 0: inputs/dynamic_bie.toml's choice)")
+      ->check(CLI::IsMember({"none", "table42", "table42_mass"}));
   double alpha_opt = -1, beta_opt = -1;
   cli.add_option("--alpha", alpha_opt, "Rayleigh alpha_d, 1/s (with --beta; overrides --damping)");
   cli.add_option("--beta", beta_opt, "Rayleigh beta_d, s (with --alpha; overrides --damping)");
@@ -148,7 +151,10 @@ int main(int argc, char* argv[]) {
   auto damping_for = [&](long n, double& a, double& b) {
     a = 0, b = 0;
     if (alpha_opt >= 0) a = alpha_opt, b = beta_opt;
-    else if (damping == "table42") dyn::table_4_2_damping(static_cast<std::size_t>(n), ratio, a, b);
+    else if (damping != "none") {
+      dyn::table_4_2_damping(static_cast<std::size_t>(n), ratio, a, b);
+      if (damping == "table42_mass") b = 0;
+    }
   };
 
   const Kokkos::DefaultExecutionSpace space;

@@ -7,7 +7,7 @@
 # NACRE_DYN_BLOCKS (best kept), methods NACRE_DYN_METHODS (default ue,be,bie; bie_dense = BIE with the dense
 # J^-1 apply and full last iteration, the comparison for the undamped reduced form); pass them with env:
 # devenv/nacre-env run env NACRE_DYN_SIZES=... perf/...
-# Damping NACRE_DYN_DAMPING (default none; table42 = Rayleigh C from Table 4.2 by brick count, each
+# Damping NACRE_DYN_DAMPING (default none; table42 = Rayleigh C from Table 4.2 by brick count, table42_mass = its alpha_d only; each
 # method's step then found with that damping). Thread counts NACRE_DYN_THREADS (default "1 2"). NACRE_DYN_NATIVE=1 builds and runs the
 # -march=native build of the kernels instead (build/native, CMake option NACRE_DYN_NATIVE=ON;
 # numbers not bit-for-bit those of the default build; report it as a separate row).

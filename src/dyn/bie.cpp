@@ -18,8 +18,12 @@ constexpr double kMaxCondition = 1e12;
 
 std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
   const int nd = m.nd, n = 2 * nd;
-  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.K, t, Kokkos::ALL, Kokkos::ALL));
-  auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.mass, t, Kokkos::ALL));
+  // Whole views mirrored (a few KB per type): a subview at fixed type is strided under the GPU's
+  // LayoutLeft, and Kokkos cannot deep_copy a strided device view to the host (found on an H100).
+  const auto Kall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);
+  const auto Mall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
+  const auto K = Kokkos::subview(Kall, t, Kokkos::ALL, Kokkos::ALL);
+  const auto M = Kokkos::subview(Mall, t, Kokkos::ALL);
   const double h = m.h;
   std::vector<double> J(static_cast<std::size_t>(n) * n, 0.0);  // row-major
   auto at = [&](int i, int j) -> double& { return J[static_cast<std::size_t>(i) * n + j]; };
