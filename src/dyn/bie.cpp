@@ -48,7 +48,13 @@ BieTables<> build_bie_tables(const Model<>& m) {
   BieTables<> b;
   const int nd = m.nd, n = 2 * nd, nt = m.n_types, ne = m.n_elem;
   b.n2 = n;
-  b.block_lower = m.alpha == 0.0 && m.beta == 0.0;
+  b.block_lower = m.beta == 0.0;  // C = alpha M: the v-columns of J are diagonal (b I, c I)
+  if (b.block_lower) {
+    // b and c of J (eq. 4.7 as bie_jacobian_host forms them) on a dof with mass; the kernels use
+    // b / c and 1 / c from here, so the blocks below are built from the same two numbers
+    const double bq = 0.25 * m.h * m.h * m.alpha, c = 1.0 + 0.5 * m.h * m.alpha;
+    b.jq = bq / c, b.jr = 1.0 / c;
+  }
   b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
   for (int t = 0; t < nt; ++t) {
@@ -63,16 +69,28 @@ BieTables<> build_bie_tables(const Model<>& m) {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
     Eigen::MatrixXd Jti = lu.inverse(), Jis;
     if (b.block_lower) {
-      // C = 0: J = [[A, 0], [h/2 M^-1 K, I]], A = I + h^2/4 M^-1 K, so J^-1 = [[A^-1, 0], [B, I]],
-      // B = -h/2 M^-1 K A^-1, built blockwise: the zero block and the identity are exact (the
-      // tiled apply skips them, bit for bit the dense product of this matrix), the rest agrees
-      // with the LU inverse to rounding.
+      // C = alpha M: J = [[A, Bd], [P, Cd]], A = I + h^2/4 M^-1 K, P = h/2 M^-1 K, Bd = diag(q_i c_i),
+      // Cd = diag(c_i) (q_i = b / c, c_i = c on dofs with mass; 0 and 1 on padded ones), so
+      // J^-1 = [[S^-1, -S^-1 Q], [L, Cd^-1 - L Q]], S = A - Q P, Q = diag(q_i), L = -Cd^-1 P S^-1.
+      // Built blockwise: with C = 0 (q = 0, c = 1) the zero block and the identity are exact (the
+      // tiled apply skips them, bit for bit the dense product of this matrix); the rest agrees with
+      // the LU inverse to rounding (checked below).
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(nd), r = Eigen::VectorXd::Ones(nd);
+      for (int i = 0; i < nd; ++i)
+        if (Jraw(i, nd + i) != 0.0 || Jraw(nd + i, nd + i) != 1.0) q(i) = b.jq, r(i) = b.jr;
       const Eigen::MatrixXd Jp = Jraw.topLeftCorner(nd, nd), Jvp = Jraw.bottomLeftCorner(nd, nd);
-      const Eigen::MatrixXd Ai = Eigen::PartialPivLU<Eigen::MatrixXd>(Jp).inverse();
+      const Eigen::MatrixXd S = b.jq == 0.0 ? Jp : Eigen::MatrixXd(Jp - q.asDiagonal() * Jvp);
+      const Eigen::MatrixXd Si = Eigen::PartialPivLU<Eigen::MatrixXd>(S).inverse();
+      const Eigen::MatrixXd L = b.jq == 0.0 ? Eigen::MatrixXd(-(Jvp * Si)) : Eigen::MatrixXd(-(r.asDiagonal() * (Jvp * Si)));
       Jis = Eigen::MatrixXd::Zero(n, n);
-      Jis.topLeftCorner(nd, nd) = Ai;
-      Jis.bottomLeftCorner(nd, nd) = -(Jvp * Ai);
-      Jis.bottomRightCorner(nd, nd).setIdentity();
+      Jis.topLeftCorner(nd, nd) = Si;
+      Jis.bottomLeftCorner(nd, nd) = L;
+      if (b.jq == 0.0) {
+        Jis.bottomRightCorner(nd, nd).setIdentity();
+      } else {
+        Jis.topRightCorner(nd, nd) = -(Si * q.asDiagonal());
+        Jis.bottomRightCorner(nd, nd) = Eigen::MatrixXd(r.asDiagonal()) - L * q.asDiagonal();
+      }
       Jti = d.asDiagonal() * Jis * d.cwiseInverse().asDiagonal();  // dimensionless, for the checks below
     }
     // cond_1(J~) = |J~|_1 |J~^-1|_1 (exact for the computed inverse, n <= 32: cheap)

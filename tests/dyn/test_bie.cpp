@@ -178,9 +178,9 @@ TEST_CASE("bie: with C = 0 the block-structured J^-1 and the reduced last iterat
           bad += Jh(t, m.nd + i, m.nd + j) != (i == j ? 1.0 : 0.0);
         }
     CHECK(bad == 0);
-    // damping fills the blocks: the dense apply is kept
+    // stiffness damping fills the blocks: the dense apply is kept
     auto q = p;
-    q.alpha_d = 1e5;
+    q.alpha_d = 1e5, q.beta_d = 1e-9;
     dyn::HostMap map2;
     CHECK_FALSE(dyn::build_bie_tables(dyn::build_model(q, st.s, st.f, mortar(), map2)).block_lower);
   }
@@ -211,6 +211,52 @@ TEST_CASE("bie: with C = 0 the block-structured J^-1 and the reduced last iterat
       differ += !(x[i] == y[i]);
     }
     INFO("array " << k << ": " << differ << " of " << x.size() << " entries differ, worst " << worst << " of " << scale);
+    CHECK(scale > 0);
+    CHECK(worst <= 1e-8 * scale);
+  }
+}
+
+TEST_CASE("bie: with mass-proportional damping the block apply equals the dense J^-1 to rounding", "[dyn][bie]") {
+  // C = alpha M (Table 4.2's alpha_d, beta_d = 0: inputs/dynamic_bie.toml): J^-1 g = [S^-1 g~;
+  // L g~ + g_v / c], g~ = g_p - (b/c) g_v. The tables' dense J^-1 is the exact inverse to rounding,
+  // and the tiled block apply (first nd columns, scaled input) follows the dense apply.
+  const auto st = make(wall(6, 6, 2.0));
+  auto p = loaded(500, dyn::Method::bie);
+  p.alpha_d = 1.058e5;
+  p.dt = 10 * estimate(p, st);
+  {
+    dyn::HostMap map;
+    const auto m = dyn::build_model(p, st.s, st.f, mortar(), map);
+    const auto b = dyn::build_bie_tables(m);
+    REQUIRE(b.block_lower);
+    CHECK(b.jq > 0);
+    CHECK(b.jr < 1);
+    CHECK(b.max_identity_error < 1e-10);  // D J D^-1 times the blockwise inverse, against I
+  }
+  std::vector<dyn::StateArrays> states;
+  std::vector<double> strain, damped;
+  for (bool structured : {true, false}) {
+    auto q = p;
+    q.bie_block_structure = structured;
+    dyn::Simulation sim(q, st.s, st.f, mortar());
+    REQUIRE(sim.advance(Exec{}, 300));
+    states.push_back(sim.save_state());
+    strain.push_back(sim.energies().strain);
+    damped.push_back(sim.energies().damping_dissipated);
+  }
+  CHECK(strain[0] > 0);
+  CHECK(damped[0] > 0);
+  INFO("strain " << strain[0] << " vs " << strain[1] << ", damping " << damped[0] << " vs " << damped[1]);
+  CHECK(std::abs(strain[0] - strain[1]) <= 1e-8 * strain[1]);
+  CHECK(std::abs(damped[0] - damped[1]) <= 1e-8 * damped[1]);
+  for (const char* k : {"u", "v"}) {
+    const auto& x = states[0].at(k);
+    const auto& y = states[1].at(k);
+    REQUIRE(x.size() == y.size());
+    double worst = 0, scale = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      worst = std::max(worst, std::abs(x[i] - y[i])), scale = std::max(scale, std::abs(y[i]));
+    INFO("array " << k << ": worst " << worst << " of " << scale);
     CHECK(scale > 0);
     CHECK(worst <= 1e-8 * scale);
   }

@@ -29,11 +29,14 @@
 ///   the defaults (two iterations, force kept): start + first J^-1 apply, the interface force at
 ///   x_1, then the second iteration and the end of the step in one pass (BieIterFinalTileTag: both
 ///   use the force at x_1, so one gather and one load/store of the state serve both).
-/// - Without damping (C = 0, BieTables::block_lower) J^-1 = [[A^-1, 0], [B, I]] is built blockwise
-///   (exact zeros and identity) and the tiled apply skips them; and the last iteration takes its
-///   reduced form (BieIterFinalLinearTileTag): G_p does not involve the interface force, so the
-///   first iteration already zeroed it and the second only sets v = v_n + h/2 (a_n + a(x_1)),
-///   one nd x nd apply instead of the three K applies and the 2nd x 2nd J^-1 apply. Params::bie_block_structure = false keeps the dense form.
+/// - Without stiffness damping (beta_d = 0, BieTables::block_lower) J^-1 is determined by its
+///   first nd columns and two numbers (jq = b/c, jr = 1/c of J's diagonal v-columns): it is built
+///   blockwise, and the tiled apply scales g_p -= jq g_v, multiplies the first nd columns and adds
+///   jr g_v (half the work of the dense apply). Without any damping (C = 0: jq = 0, jr = 1, exact
+///   zeros and identity) the last iteration also takes its reduced form (BieIterFinalLinearTileTag):
+///   G_p does not involve the interface force, so the first iteration already zeroed it and the
+///   second only sets v = v_n + h/2 (a_n + a(x_1)), one nd x nd apply instead of the three K
+///   applies and the 2nd x 2nd J^-1 apply. Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
@@ -61,9 +64,14 @@ struct BieTables {
   double max_condition = 0;      ///< max over types of cond_1(D J D^-1), D = diag(I, h I) (dimensionless J)
   double max_identity_error = 0; ///< max over types of max|J~ J~^-1 - I| of that dimensionless J~
   int n2 = 0;                                     ///< 2 * nd
-  /// C = 0: every type's J^-1 is [[A^-1, 0], [B, I]] with the zero block and the identity exact
-  /// (built blockwise), so the tiled apply multiplies the first nd columns only (half the work).
+  /// No stiffness damping (beta_d = 0, C = alpha_d M): J = [[A, b I], [P, c I]] (b = h^2 alpha/4,
+  /// c = 1 + h alpha/2 on every dof with mass), so J^-1 g = [S^-1 g~; L g~ + g_v / c] with
+  /// g~ = g_p - (b/c) g_v, S = A - (b/c) P, L = -P S^-1 / c: the tiled apply multiplies the first
+  /// nd columns only (half the work) after the scaling of g. C = 0: b = 0, c = 1 and the last nd
+  /// columns are exactly [[0], [I]]. Built blockwise (exact zeros and ones).
   bool block_lower = false;
+  double jq = 0.0;  ///< b / c (0 without damping)
+  double jr = 1.0;  ///< 1 / c (1 without damping)
 };
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
@@ -104,10 +112,21 @@ struct BieIntegrator {
   DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot (unfused path)
   bool book = true;                ///< BieFinalTag: accumulate work and damping (false: a only)
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 per type (fused path)
-  /// J^-1 = [[A^-1, 0], [B, I]] exactly (BieTables::block_lower): the tiled apply sums the first
-  /// nd columns and adds the identity's term, skipping the exact zeros (false: the dense product;
-  /// the same bits on such a matrix up to the sign of a zero, tests/dyn).
+  /// J^-1 determined by its first nd columns and (jq, jr) (BieTables::block_lower): the tiled
+  /// apply scales g_p -= jq g_v (dofs with mass; skipped when jq = 0), sums the first nd columns
+  /// and adds jr g_v on the velocity rows (C = 0: the identity), skipping the rest (false: the
+  /// dense product; without damping the same bits on such a matrix up to the sign of a zero).
   bool block_lower = false;
+  double jq = 0.0, jr = 1.0;  ///< BieTables::jq, jr
+
+  /// g~_p = g_p - jq g_v on the dofs with mass (the block apply's input); nothing when jq = 0.
+  KOKKOS_INLINE_FUNCTION void tile_block_scale(int t, double (*KOKKOS_RESTRICT g)[kTile]) const {
+    if (!block_lower || jq == 0.0) return;
+    const int nd = ex.nd;
+    for (int j = 0; j < nd; ++j)
+      if (ex.mass(t, j) > 0)
+        for (int b = 0; b < kTile; ++b) g[j][b] -= jq * g[nd + j][b];
+  }
 
   /// y[q] = sum_j J(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of J^-1 (dense, or the block
   /// structure: the same terms in the same order less the exact zeros).
@@ -121,10 +140,12 @@ struct BieIntegrator {
         const double c = q < nq ? J(t, i0 + q, j) : 0.0;
         for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
       }
-    if (block_lower)  // the identity of the v-v block: row r >= nd gets 1 * g[r], its only term past nd
+    if (block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
       for (int q = 0; q < nq; ++q)
-        if (i0 + q >= nd)
-          for (int b = 0; b < kTile; ++b) y[q][b] += g[i0 + q][b];
+        if (i0 + q >= nd) {
+          const double r = ex.mass(t, i0 + q - nd) > 0 ? jr : 1.0;
+          for (int b = 0; b < kTile; ++b) y[q][b] += r * g[i0 + q][b];
+        }
   }
 
   KOKKOS_INLINE_FUNCTION double minv(int t, int j) const {
@@ -354,8 +375,9 @@ struct BieIntegrator {
   }
 
   /// x += J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities).
-  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, const double (*KOKKOS_RESTRICT g)[kTile]) const {
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int n = 2 * ex.nd, nd = ex.nd;
+    tile_block_scale(t, g);
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
@@ -458,6 +480,7 @@ struct BieIntegrator {
     tile_load(t, k0, nb, f, u, v);
     tile_acc(t, f, u, v, ax);
     tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
+    tile_block_scale(t, g);
     // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
@@ -671,7 +694,7 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
     for (int k = 0; k < iterations; ++k) {
       if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
         Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
-        if (it.block_lower)
+        if (it.block_lower && it.jq == 0.0)  // C = 0 only: with alpha_d M, G_p(x_1) = 0 still, but y_p != 0
           Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
                                Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
         else
