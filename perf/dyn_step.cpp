@@ -143,6 +143,7 @@ int main(int argc, char* argv[]) {
                  "ms per step per kernel appended here");
   cli.allow_extras();
   CLI11_PARSE(cli, argc, argv);
+  std::cout << std::unitbuf;  // progress lines reach a log even when a time limit kills the run (seen on an H100)
   if ((alpha_opt >= 0) != (beta_opt >= 0)) {
     std::cerr << "[dyn_step] --alpha and --beta go together (both >= 0)\n";
     return 2;
