@@ -79,7 +79,7 @@ if [ "$what" = tests ] || [ "$what" = all ]; then
     '"$0" {} --reporter compact > "$1/{}.log" 2>&1; echo "{} exit $?" >> "$1/tests_exit.txt"' "$R" "$O"
   for t in $(ls "$B/bin" | grep '^test_'); do grep -q "^$t exit" "$O/tests_exit.txt" || echo "$t unfinished (deadline)" >> "$O/tests_exit.txt"; done
   sort "$O/tests_exit.txt" | tee -a "$O/device_run.log"
-  for f in "$O"/test_*.log; do tail -n 2 "$f" | sed "s|^|$(basename "$f" .log): |"; done > "$O/tests_summary.txt"
+  for f in "$O"/test_*.log; do grep -v '^$' "$f" | tail -n 2 | sed "s|^|$(basename "$f" .log): |"; done > "$O/tests_summary.txt"
   tar czf "$O/test_logs.tar.gz" -C "$O" $(cd "$O" && ls test_*.log) tests_exit.txt && rm -f "$O"/test_*.log
   cat "$O/tests_summary.txt"
 fi
