@@ -14,25 +14,20 @@ namespace nacre::dyn {
 
 namespace {
 constexpr double kMaxCondition = 1e12;
-}
 
-std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
+/// J of eq. 4.7 for type t from host copies of the model's K and mass.
+template <class HostK, class HostM>
+std::vector<double> jacobian_of_type(const Model<>& m, const HostK& K, const HostM& M, int t) {
   const int nd = m.nd, n = 2 * nd;
-  // Whole views mirrored (a few KB per type): a subview at fixed type is strided under the GPU's
-  // LayoutLeft, and Kokkos cannot deep_copy a strided device view to the host (found on an H100).
-  const auto Kall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);
-  const auto Mall = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
-  const auto K = Kokkos::subview(Kall, t, Kokkos::ALL, Kokkos::ALL);
-  const auto M = Kokkos::subview(Mall, t, Kokkos::ALL);
   const double h = m.h;
   std::vector<double> J(static_cast<std::size_t>(n) * n, 0.0);  // row-major
   auto at = [&](int i, int j) -> double& { return J[static_cast<std::size_t>(i) * n + j]; };
   for (int i = 0; i < n; ++i) at(i, i) = 1.0;
   for (int i = 0; i < nd; ++i) {
-    if (!(M(i) > 0)) continue;  // padded dof: identity
-    const double mi = 1.0 / M(i);
+    if (!(M(t, i) > 0)) continue;  // padded dof: identity
+    const double mi = 1.0 / M(t, i);
     for (int j = 0; j < nd; ++j) {
-      const double mk = mi * K(i, j);
+      const double mk = mi * K(t, i, j);
       const double mc = m.alpha * (i == j ? 1.0 : 0.0) + m.beta * mk;  // M^-1 C, C = alpha M + beta K
       at(i, j) += 0.25 * h * h * mk;
       at(i, nd + j) += 0.25 * h * h * mc;
@@ -41,6 +36,14 @@ std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
     }
   }
   return J;
+}
+}  // namespace
+
+std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
+  // Whole views mirrored: a subview at fixed type is strided under the GPU's LayoutLeft, and
+  // Kokkos cannot deep_copy a strided device view to the host (found on an H100).
+  return jacobian_of_type(m, Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K),
+                          Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass), t);
 }
 
 BieTables<> build_bie_tables(const Model<>& m) {
@@ -57,8 +60,10 @@ BieTables<> build_bie_tables(const Model<>& m) {
   }
   b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
+  const auto Kh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);  // once for every type
+  const auto Mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
   for (int t = 0; t < nt; ++t) {
-    const auto Jv = bie_jacobian_host(m, t);
+    const auto Jv = jacobian_of_type(m, Kh, Mh, t);
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jraw(Jv.data(), n, n);
     // Rows/columns of p (mm) and v (mm/s) differ in unit: invert the dimensionless
     // J~ = D J D^-1, D = diag(I, h I) (velocity as h v), whose condition number means something,
@@ -69,25 +74,28 @@ BieTables<> build_bie_tables(const Model<>& m) {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
     Eigen::MatrixXd Jti = lu.inverse(), Jis;
     if (b.block_lower) {
-      // C = alpha M: J = [[A, Bd], [P, Cd]], A = I + h^2/4 M^-1 K, P = h/2 M^-1 K, Bd = diag(q_i c_i),
-      // Cd = diag(c_i) (q_i = b / c, c_i = c on dofs with mass; 0 and 1 on padded ones), so
-      // J^-1 = [[S^-1, -S^-1 Q], [L, Cd^-1 - L Q]], S = A - Q P, Q = diag(q_i), L = -Cd^-1 P S^-1.
-      // Built blockwise: with C = 0 (q = 0, c = 1) the zero block and the identity are exact (the
-      // tiled apply skips them, bit for bit the dense product of this matrix); the rest agrees with
-      // the LU inverse to rounding (checked below).
-      Eigen::VectorXd q = Eigen::VectorXd::Zero(nd), r = Eigen::VectorXd::Ones(nd);
-      for (int i = 0; i < nd; ++i)
-        if (Jraw(i, nd + i) != 0.0 || Jraw(nd + i, nd + i) != 1.0) q(i) = b.jq, r(i) = b.jr;
+      // J = [[A, Bd], [P, Cd]], A = I + h^2/4 M^-1 K, P = h/2 M^-1 K, Bd = diag(q_i c_i), Cd = diag(c_i)
+      // (q_i = b / c, c_i = c on dofs with mass, the kernels' test; 0 and 1 on padded ones).
+      // Built blockwise; the rest agrees with the LU inverse to rounding (checked below).
       const Eigen::MatrixXd Jp = Jraw.topLeftCorner(nd, nd), Jvp = Jraw.bottomLeftCorner(nd, nd);
-      const Eigen::MatrixXd S = b.jq == 0.0 ? Jp : Eigen::MatrixXd(Jp - q.asDiagonal() * Jvp);
-      const Eigen::MatrixXd Si = Eigen::PartialPivLU<Eigen::MatrixXd>(S).inverse();
-      const Eigen::MatrixXd L = b.jq == 0.0 ? Eigen::MatrixXd(-(Jvp * Si)) : Eigen::MatrixXd(-(r.asDiagonal() * (Jvp * Si)));
       Jis = Eigen::MatrixXd::Zero(n, n);
-      Jis.topLeftCorner(nd, nd) = Si;
-      Jis.bottomLeftCorner(nd, nd) = L;
       if (b.jq == 0.0) {
+        // C = 0: J^-1 = [[A^-1, 0], [-P A^-1, I]], the zero block and the identity exact (the
+        // tiled apply skips them, bit for bit the dense product of this matrix)
+        const Eigen::MatrixXd Ai = Eigen::PartialPivLU<Eigen::MatrixXd>(Jp).inverse();
+        Jis.topLeftCorner(nd, nd) = Ai;
+        Jis.bottomLeftCorner(nd, nd) = -(Jvp * Ai);
         Jis.bottomRightCorner(nd, nd).setIdentity();
       } else {
+        // C = alpha M: J^-1 = [[S^-1, -S^-1 Q], [L, Cd^-1 - L Q]], S = A - Q P, Q = diag(q_i),
+        // L = -Cd^-1 P S^-1
+        Eigen::VectorXd q = Eigen::VectorXd::Zero(nd), r = Eigen::VectorXd::Ones(nd);
+        for (int i = 0; i < nd; ++i)
+          if (Mh(t, i) > 0) q(i) = b.jq, r(i) = b.jr;
+        const Eigen::MatrixXd Si = Eigen::PartialPivLU<Eigen::MatrixXd>(Jp - q.asDiagonal() * Jvp).inverse();
+        const Eigen::MatrixXd L = -(r.asDiagonal() * (Jvp * Si));
+        Jis.topLeftCorner(nd, nd) = Si;
+        Jis.bottomLeftCorner(nd, nd) = L;
         Jis.topRightCorner(nd, nd) = -(Si * q.asDiagonal());
         Jis.bottomRightCorner(nd, nd) = Eigen::MatrixXd(r.asDiagonal()) - L * q.asDiagonal();
       }
