@@ -39,6 +39,7 @@ struct Simulation::Impl {
   std::size_t n_bricks = 0;
   DofView<Mem> u, v, a, u0, v0, a0;
   AccView<Mem> acc, acc0;
+  DrivenAccView<Mem> dacc, dacc0;
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
   loading::Ramp ramp;
@@ -61,7 +62,9 @@ struct Simulation::Impl {
     const int ne = m.n_elem, nd = m.nd;
     u = make<DofView<Mem>>("u", ne, nd), v = make<DofView<Mem>>("v", ne, nd), a = make<DofView<Mem>>("a", ne, nd);
     u0 = make<DofView<Mem>>("u0", ne, nd), v0 = make<DofView<Mem>>("v0", ne, nd), a0 = make<DofView<Mem>>("a0", ne, nd);
-    acc = make<AccView<Mem>>("acc", ne), acc0 = make<AccView<Mem>>("acc0", ne);
+    const int nc = is_bie() ? kAccColsBie : kAccColsExplicit, ndr = std::max(m.n_driven, 1);
+    acc = make<AccView<Mem>>("acc", ne, nc), acc0 = make<AccView<Mem>>("acc0", ne, nc);
+    dacc = make<DrivenAccView<Mem>>("dacc", ndr), dacc0 = make<DrivenAccView<Mem>>("dacc0", ndr);
     iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
     ws.reserve(std::max(ne, m.n_iface));
     if (is_bie()) {
@@ -83,7 +86,7 @@ struct Simulation::Impl {
   [[nodiscard]] double time_at(long n) const { return static_cast<double>(n) * p.dt; }
 
   Integrator<Mem> integrator() const {
-    Integrator<Mem> it(m, u, v, a, acc, iforce);
+    Integrator<Mem> it(m, u, v, a, acc, dacc, iforce);
     // automatic: tiled on a CPU for the bolted methods (measured 1.5x faster final_integrate at
     // 50k bricks); UE's 6-dof triangles gain nothing from it (measured), they stay per element
     it.tiled = p.element_apply == ElementApply::tiled ||
@@ -119,14 +122,15 @@ struct Simulation::Impl {
 
   void save_copy(const Exec& space) {
     Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
-    Kokkos::deep_copy(space, acc0, acc);
+    Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
   }
   void load_copy(const Exec& space) {
     Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
-    Kokkos::deep_copy(space, acc, acc0);
+    Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
   }
 
-  double sum_acc(int col) { return column_sum(space, ws, acc, col, m.n_elem); }
+  double sum_acc(AccCol col) { return column_sum(space, ws, acc, col, m.n_elem); }
+  double sum_driven(DrivenCol col) { return column_sum(space, ws, dacc, col, m.n_driven); }
   double kinetic(bool free_only, bool poison) {
     return element_sum(space, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
                        m.n_elem);
@@ -188,7 +192,7 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
   if (I.is_bie()) bie_accelerations(space, I.bie_integrator(), InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
   // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
   // kinetic energy is counted as work done by the machine, so the balance starts closed.
-  set_initial_work(space, I.acc, KineticEnergy<Mem>{I.m.type, I.m.drive, I.m.mass, I.u, I.v, I.a, I.m.nd, false, false},
+  set_initial_work(space, I.integrator(), KineticEnergy<Mem>{I.m.type, I.m.drive, I.m.mass, I.u, I.v, I.a, I.m.nd, false, false},
                    I.m.n_elem);
   space.fence();
 }
@@ -253,7 +257,7 @@ Energies Simulation::energies() const {
   return e;
 }
 
-double Simulation::reaction() const { return impl_->sum_acc(kReact); }
+double Simulation::reaction() const { return impl_->sum_driven(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
@@ -354,6 +358,7 @@ StateArrays Simulation::save_state() const {
   auto& I = *impl_;
   StateArrays s;
   s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
+  s["dacc"] = to_vector(I.dacc);
   s["clock"] = {static_cast<double>(I.step), I.p.dt, I.e_ref};
   s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
                 static_cast<double>(I.m.n_iface)};
@@ -362,7 +367,7 @@ StateArrays Simulation::save_state() const {
 
 void Simulation::restore_state(const StateArrays& a) {
   auto& I = *impl_;
-  for (const char* k : {"u", "v", "a", "acc", "clock", "shape"})
+  for (const char* k : {"u", "v", "a", "acc", "dacc", "clock", "shape"})
     if (!a.count(k)) throw std::runtime_error(std::string("dyn::restore_state: array '") + k + "' missing");
   const auto& shape = a.at("shape");
   if (shape.size() != 4 || shape[0] != I.m.n_elem || shape[1] != I.m.nd ||
@@ -374,7 +379,7 @@ void Simulation::restore_state(const StateArrays& a) {
     throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
   from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
-  from_vector(I.acc, a.at("acc"), "acc");
+  from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
   I.step = static_cast<long>(clock[0]);
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
   // then the mechanical energy not accounted for by work and dissipation becomes the reference.
@@ -391,13 +396,13 @@ std::size_t Simulation::bytes() const {
   auto& I = *impl_;
   std::size_t b = model_bytes(I.m);
   for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
-  b += (I.acc.span() + I.acc0.span() + I.iforce.span()) * sizeof(double);
+  b += (I.acc.span() + I.acc0.span() + I.dacc.span() + I.dacc0.span() + I.iforce.span()) * sizeof(double);
   if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
   return b;
 }
 std::size_t Simulation::step_bytes() const {
   auto& I = *impl_;
-  std::size_t st = (I.u.span() + I.v.span() + I.a.span() + I.acc.span()) * sizeof(double);
+  std::size_t st = (I.u.span() + I.v.span() + I.a.span() + I.acc.span() + I.dacc.span()) * sizeof(double);
   std::size_t b = model_bytes(I.m) + 2 * st;
   if (I.is_bie()) b += I.bie.Jinv.span() * sizeof(double);  // the shared J^-1 (a few KB)
   return b;

@@ -25,18 +25,25 @@ struct InitialTag {};
 struct FinalTag {};
 struct FinalTileTag {};
 
-/// Column of the per-element accumulators.
-/// Driven elements keep, from the previous step: kGPrev = F_i . pattern (the interface force
-/// along the prescribed motion), kDampPowPrev = v^T C v, kEnergyPrev = kinetic + strain energy.
-enum AccCol : int { kWork = 0, kDamp = 1, kGPrev = 2, kDampPowPrev = 3, kReact = 4, kEnergyPrev = 5, kAccCols = 6 };
-/// BIE: free elements (which never use kGPrev, kDampPowPrev) keep there the m-weighted |G_v|^2 and
-/// |v_{n+1} - v_n|^2 of the last step (Simulation::bie_residual).
-inline constexpr int kBieG2 = kGPrev, kBieD2 = kDampPowPrev;
+/// Column of the per-element accumulators (every element): work done on it and energy its
+/// damping dissipated. BIE adds two columns: the m-weighted |G_v|^2 and |v_{n+1} - v_n|^2 of the
+/// last step (Simulation::bie_residual); UE and BE allocate only the first two.
+enum AccCol : int { kWork = 0, kDamp = 1, kBieG2 = 2, kBieD2 = 3 };
+inline constexpr int kAccColsExplicit = 2, kAccColsBie = 4;
+/// Column of the driven elements' books (row driven_index(e)): the reaction, and from the
+/// previous step kinetic + strain energy, F_i . pattern (the interface force along the
+/// prescribed motion) and v^T C v. Only driven elements need them, so only they store them
+/// (a row per element cost 32 B per brick, twice with the roll-back copy).
+enum DrivenCol : int { kReact = 0, kEnergyPrev = 1, kGPrev = 2, kDampPowPrev = 3, kDrivenCols = 4 };
 
 template <class MemorySpace>
 using DofView = typename Model<MemorySpace>::Dof;
+/// [element][column]; the column count is the method's (kAccColsExplicit or kAccColsBie).
 template <class MemorySpace>
-using AccView = Kokkos::View<double* [kAccCols], ElemLayout<MemorySpace>, MemorySpace>;
+using AccView = Kokkos::View<double**, ElemLayout<MemorySpace>, MemorySpace>;
+/// [driven element][DrivenCol]
+template <class MemorySpace>
+using DrivenAccView = Kokkos::View<double* [kDrivenCols], ElemLayout<MemorySpace>, MemorySpace>;
 template <class MemorySpace>
 using IforceView = Kokkos::View<double* [8], ElemLayout<MemorySpace>, MemorySpace>;
 
@@ -178,6 +185,7 @@ struct Integrator {
   Kokkos::View<const double* [8], ElemLayout<MemorySpace>, MemorySpace> iforce;
   DofView<MemorySpace> u, v, a;
   AccView<MemorySpace> acc;
+  DrivenAccView<MemorySpace> dacc;
   int nd, n_tiles, n_driven;
   bool has_fp, ainv_diagonal;
   bool tiled = false;  ///< final_integrate over tiles (FinalTileTag) instead of per element (FinalTag)
@@ -187,11 +195,12 @@ struct Integrator {
   double D_prev = 0;              ///< opening at the old time
 
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
-             const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const IforceView<MemorySpace>& f_)
+             const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const DrivenAccView<MemorySpace>& dacc_,
+             const IforceView<MemorySpace>& f_)
       : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), tile_start(m.tile_start),
         tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
         Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
-        v(v_), a(a_), acc(acc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
+        v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
         ainv_diagonal(m.ainv_diagonal), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
   /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
@@ -303,13 +312,14 @@ struct Integrator {
       pattern(e, t, j, px, py);
       G += fi[2 * j] * px + fi[2 * j + 1] * py;
     }
-    const double damp = 0.5 * h * (acc(e, kDampPowPrev) + pd);
-    acc(e, kWork) += (en - acc(e, kEnergyPrev)) + damp - 0.5 * (acc(e, kGPrev) + G) * (D - D_prev);
+    const int d = driven_index(e);
+    const double damp = 0.5 * h * (dacc(d, kDampPowPrev) + pd);
+    acc(e, kWork) += (en - dacc(d, kEnergyPrev)) + damp - 0.5 * (dacc(d, kGPrev) + G) * (D - D_prev);
     acc(e, kDamp) += damp;
-    acc(e, kEnergyPrev) = en;
-    acc(e, kGPrev) = G;
-    acc(e, kDampPowPrev) = pd;
-    acc(e, kReact) = drive(e) > 0 ? react : 0.0;
+    dacc(d, kEnergyPrev) = en;
+    dacc(d, kGPrev) = G;
+    dacc(d, kDampPowPrev) = pd;
+    dacc(d, kReact) = drive(e) > 0 ? react : 0.0;
   }
 
   /// The free part of FinalTag for a tile of up to kTile free elements of one type
@@ -493,12 +503,13 @@ void interface_forces(const ExecutionSpace& space, const InterfaceOp<MemOf<Execu
                        op);
 }
 
-/// \brief Sum of one accumulator column over the elements (deterministic).
-template <class ExecutionSpace>
-double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws,
-                  const AccView<MemOf<ExecutionSpace>>& acc, int col, int n_elem) {
-  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n_elem,
-                                           KOKKOS_LAMBDA(const int e) { return acc(e, col); });
+/// \brief Sum of one accumulator column over the first n rows (deterministic): AccView over
+/// the elements or DrivenAccView over the driven elements.
+template <class ExecutionSpace, class View>
+double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const View& acc, int col,
+                  int n) {
+  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, typename View::memory_space>::accessible);
+  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n, KOKKOS_LAMBDA(const int e) { return acc(e, col); });
 }
 
 /// \brief Total cohesive energy (deterministic).
@@ -516,13 +527,22 @@ double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpac
   return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, term);
 }
 
-/// \brief acc(e, kWork) = acc(e, kEnergyPrev) = term(e): the energy the start gives an element
-/// (the kinetic energy of driven elements set moving at t = 0) is booked as work.
+/// \brief acc(e, kWork) = term(e) and, for a driven element, its kEnergyPrev = term(e): the
+/// energy the start gives an element (the kinetic energy of driven elements set moving at t = 0)
+/// is booked as work.
 template <class ExecutionSpace, class Term>
-void set_initial_work(const ExecutionSpace& space, const AccView<MemOf<ExecutionSpace>>& acc, const Term& term,
+void set_initial_work(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, const Term& term,
                       int n_elem) {
+  const auto acc = it.acc;
+  const auto dacc = it.dacc;
+  const auto drive = it.drive;
+  const auto driven_index = it.driven_index;
   Kokkos::parallel_for("nacre::dyn::initial_work", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-                       KOKKOS_LAMBDA(const int e) { acc(e, kWork) = acc(e, kEnergyPrev) = term(e); });
+                       KOKKOS_LAMBDA(const int e) {
+                         const double w = term(e);
+                         acc(e, kWork) = w;
+                         if (drive(e) != 0) dacc(driven_index(e), kEnergyPrev) = w;
+                       });
 }
 
 /// \brief Number of ruptured interfaces among [0, n) (integer reduction: exact).
