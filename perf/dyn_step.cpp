@@ -121,6 +121,7 @@ int main(int argc, char* argv[]) {
   double ratio = 500;
   std::size_t triad_n = std::size_t(1) << 25;
   std::string csv, profile_csv;
+  int bie_iterations = 0;  // 0: the Params default (2, as the dissertation)
   cli.add_option("--bricks", sizes)->delimiter(',');
   cli.add_option("--methods", methods)->delimiter(',');
   cli.add_option("--steps", steps, "steps per timed block");
@@ -136,6 +137,8 @@ int main(int argc, char* argv[]) {
   double alpha_opt = -1, beta_opt = -1;
   cli.add_option("--alpha", alpha_opt, "Rayleigh alpha_d, 1/s (with --beta; overrides --damping)");
   cli.add_option("--beta", beta_opt, "Rayleigh beta_d, s (with --alpha; overrides --damping)");
+  cli.add_option("--bie-iterations", bie_iterations,
+                 "BIE: iterations with the constant J per step (heavily stiffness-damped bricks need 3)");
   cli.add_option("--triad-n", triad_n, "doubles per triad array");
   cli.add_option("--csv", csv)->required();
   cli.add_option("--profile-csv", profile_csv,
@@ -183,6 +186,7 @@ int main(int argc, char* argv[]) {
         dyn::Params q = params_for(ds, method_of(mname));
         damping_for(n, q.alpha_d, q.beta_d);
         q.bie_block_structure = mname != "bie_dense";
+        if (bie_iterations > 0) q.bie_iterations = bie_iterations;
         const auto key = std::make_pair(mname, std::make_pair(q.alpha_d, q.beta_d));
         if (!found.count(key)) {
           double h = dyn::critical_step(q, ss, fs, ds.mortar, 1000, 0.05);
@@ -214,6 +218,7 @@ int main(int argc, char* argv[]) {
       dyn::Params p = params_for(d, m);
       p.dt = dt[{mname, n}];
       damping_for(n, p.alpha_d, p.beta_d);
+      if (bie_iterations > 0) p.bie_iterations = bie_iterations;
       p.bie_block_structure = mname != "bie_dense";  // bie_dense: dense J^-1 apply and full last iteration (the comparison)
       p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
                         : apply == "per_element" ? dyn::ElementApply::per_element

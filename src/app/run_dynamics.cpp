@@ -101,6 +101,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
              : (D.method == deck::Dynamics::Method::bie ? dyn::Method::bie : dyn::Method::be);
   dyn::parse_bie_solve(D.bie_solve, p.bie_solve);  // validated by the deck reader
   p.bie_block = D.bie_block;
+  p.bie_iterations = D.bie_iterations;
   p.youngs_modulus = D.modulus();
   p.poisson = D.poisson;
   p.density = D.density;

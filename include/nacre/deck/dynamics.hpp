@@ -41,6 +41,7 @@ struct Dynamics {
   bool share_element_matrices = true;  ///< one matrix set per element type (false: per element)
   std::string bie_solve = "shared_gemm";  ///< BIE J^-1 apply: row | reordered | batched | shared_gemm
   int bie_block = 4;               ///< BIE reordered matvec: rows per block (2, 4, 5, 10)
+  int bie_iterations = 2;          ///< BIE: iterations with the constant J per step (eq. 4.6: 2)
   long csv_interval = 100;         ///< time-series row every this many steps
   long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
 

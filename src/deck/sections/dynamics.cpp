@@ -55,6 +55,11 @@ void read_dynamics(Section& top, Deck& d) {
     if (nb != 2 && nb != 4 && nb != 5 && nb != 10) s.fail("bie_block", "expected 2, 4, 5 or 10 (rows per block of the reordered matvec)");
     D.bie_block = static_cast<int>(nb);
   }
+  {
+    long ni = D.bie_iterations;
+    s.integer("bie_iterations", {}, ni, 1, 16, "1 to 16 (iterations with the constant Jacobian per step)");
+    D.bie_iterations = static_cast<int>(ni);
+  }
 
   const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
@@ -113,7 +118,7 @@ void read_dynamics(Section& top, Deck& d) {
   if (has_dt && D.end_time / D.dt > 1e12)
     s.fail("dt", "end_time / dt exceeds 1e12 steps; expected a larger dt or a shorter end_time");
 
-  s.reject_unknown({"method", "bie_solve", "bie_block", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
+  s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
                     "csv_interval", "dump_interval"});
