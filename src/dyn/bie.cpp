@@ -58,8 +58,11 @@ BieTables<> build_bie_tables(const Model<>& m) {
     const double bq = 0.25 * m.h * m.h * m.alpha, c = 1.0 + 0.5 * m.h * m.alpha;
     b.jq = bq / c, b.jr = 1.0 / c;
   }
+  b.vfirst = m.beta != 0.0;
   b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
+  if (b.vfirst) b.Jv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jv"), nt, nd, n);
+  auto Jvh = Kokkos::create_mirror_view(b.Jv);
   const auto Kh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);  // once for every type
   const auto Mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
   for (int t = 0; t < nt; ++t) {
@@ -112,8 +115,33 @@ BieTables<> build_bie_tables(const Model<>& m) {
     b.max_identity_error = std::max(b.max_identity_error, err);
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) Jh(t, i, j) = Ji(i, j);
+    if (b.vfirst) {
+      // Jv = J^-1's velocity rows times E^-1, E = [[I, -h/2 I], [0, I]] on the dofs with mass
+      // (the row operation that turns J's position rows into [I, -h/2 I]): J^-1 g = (E J)^-1 E g,
+      // and (E J)^-1's velocity rows are Jv. The position rows are not stored: y_p = g~_p + h/2 y_v.
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j) {
+          const double hh = Mh(t, j) > 0 ? 0.5 * m.h : 0.0;
+          Jvh(t, i, j) = Ji(nd + i, j);
+          Jvh(t, i, nd + j) = Ji(nd + i, nd + j) + hh * Ji(nd + i, j);
+        }
+      // the row structure the apply relies on, checked on J itself: J_p - h/2 J_v = [I, -h/2 I]
+      double dev = 0;
+      for (int i = 0; i < nd; ++i) {
+        if (!(Mh(t, i) > 0)) continue;
+        for (int j = 0; j < n; ++j) {
+          const double want = j == i ? 1.0 : (j == nd + i ? -0.5 * m.h : 0.0);
+          const double got = Jraw(i, j) - 0.5 * m.h * Jraw(nd + i, j);
+          dev = std::max(dev, std::abs(got - want) * (j < nd ? 1.0 : 1.0 / m.h));
+        }
+      }
+      if (dev > 1e-9)
+        throw std::runtime_error("dyn: BIE Jacobian of element type " + std::to_string(t) +
+                                 " lacks the row structure of eq. 4.7 (deviation " + std::to_string(dev) + ")");
+    }
   }
   Kokkos::deep_copy(b.Jinv, Jh);
+  if (b.vfirst) Kokkos::deep_copy(b.Jv, Jvh);
 
   // slots: elements sorted by type (stable), tiles of <= kTile slots of one type
   auto types = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.type);
@@ -145,7 +173,7 @@ BieTables<> build_bie_tables(const Model<>& m) {
 }
 
 std::size_t bie_bytes(const BieTables<>& b) {
-  return b.Jinv.span() * sizeof(double) +
+  return (b.Jinv.span() + b.Jv.span()) * sizeof(double) +
          (b.slot_of_elem.span() + b.slot_type.span() + b.tile_start.span() + b.tile_count.span()) * sizeof(int);
 }
 

@@ -75,7 +75,8 @@ struct Simulation::Impl {
 
   BieIntegrator<Mem> bie_integrator() const {
     return BieIntegrator<Mem>{integrator(), bie.slot_of_elem, pn, vn, R, true, bie.Jinv,
-                              bie.block_lower && p.bie_block_structure, bie.jq, bie.jr};
+                              bie.block_lower && p.bie_block_structure, bie.jq, bie.jr, bie.Jv,
+                              bie.vfirst && p.bie_block_structure};
   }
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).
   [[nodiscard]] bool bie_fused() const { return is_bie() && p.bie_solve == BieSolve::shared_gemm && integrator().tiled; }

@@ -36,7 +36,11 @@
 ///   zeros and identity) the last iteration also takes its reduced form (BieIterFinalLinearTileTag):
 ///   G_p does not involve the interface force, so the first iteration already zeroed it and the
 ///   second only sets v = v_n + h/2 (a_n + a(x_1)), one nd x nd apply instead of the three K
-///   applies and the 2nd x 2nd J^-1 apply. Params::bie_block_structure = false keeps the dense form.
+///   applies and the 2nd x 2nd J^-1 apply. With stiffness damping (beta_d != 0, BieTables::vfirst)
+///   J's rows still give J_p - h/2 J_v = [I, -h/2 I] on every dof with mass, so the tiled apply
+///   scales g_p -= h/2 g_v, forms the velocity correction with one nd x 2nd matrix (Jv) and the
+///   position correction as g~_p + h/2 y_v: half the dense apply (1.34x BIE's step at 50k bricks,
+///   Table 4.2's damping). Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
 #include <string>
@@ -72,6 +76,12 @@ struct BieTables {
   bool block_lower = false;
   double jq = 0.0;  ///< b / c (0 without damping)
   double jr = 1.0;  ///< 1 / c (1 without damping)
+  /// Stiffness damping (beta_d != 0): J's rows give J_p - h/2 J_v = [I, -h/2 I] on every dof with
+  /// mass (eq. 4.7 for any C), so with g~_p = g_p - h/2 g_v the correction is y_v = Jv [g~_p; g_v],
+  /// y_p = g~_p + h/2 y_v: one nd x 2nd product (half the dense apply). Jv = [type][nd][2nd],
+  /// the velocity rows of J^-1 times [[I, h/2 I], [0, I]] (padded dofs: identity).
+  bool vfirst = false;
+  TypeMat Jv;
 };
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
@@ -118,11 +128,21 @@ struct BieIntegrator {
   /// dense product; without damping the same bits on such a matrix up to the sign of a zero).
   bool block_lower = false;
   double jq = 0.0, jr = 1.0;  ///< BieTables::jq, jr
+  /// The velocity-first apply (BieTables::vfirst, beta_d != 0): y_v = Jv [g~_p; g_v], y_p = g~_p + h/2 y_v.
+  Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> Jv;
+  bool vfirst = false;
 
   /// g~_p = g_p - jq g_v on the dofs with mass (the block apply's input); nothing when jq = 0.
   KOKKOS_INLINE_FUNCTION void tile_block_scale(int t, double (*KOKKOS_RESTRICT g)[kTile]) const {
-    if (!block_lower || jq == 0.0) return;
     const int nd = ex.nd;
+    if (vfirst) {  // g~_p = g_p - h/2 g_v
+      const double hh = 0.5 * ex.h;
+      for (int j = 0; j < nd; ++j)
+        if (ex.mass(t, j) > 0)
+          for (int b = 0; b < kTile; ++b) g[j][b] -= hh * g[nd + j][b];
+      return;
+    }
+    if (!block_lower || jq == 0.0) return;
     for (int j = 0; j < nd; ++j)
       if (ex.mass(t, j) > 0)
         for (int b = 0; b < kTile; ++b) g[j][b] -= jq * g[nd + j][b];
@@ -146,6 +166,32 @@ struct BieIntegrator {
           const double r = ex.mass(t, i0 + q - nd) > 0 ? jr : 1.0;
           for (int b = 0; b < kTile; ++b) y[q][b] += r * g[i0 + q][b];
         }
+  }
+
+  /// The velocity-first correction of a tile (vfirst; g already scaled by tile_block_scale):
+  /// y_v = Jv g in row blocks of kRowBlock accumulators, then y_p = g~_p + h/2 y_v on dofs with
+  /// mass (y_p = g_p on padded ones).
+  KOKKOS_INLINE_FUNCTION void tile_vfirst(int t, const double (*KOKKOS_RESTRICT g)[kTile],
+                                          double (*KOKKOS_RESTRICT y)[kTile]) const {
+    const int nd = ex.nd, n = 2 * nd;
+    for (int i0 = 0; i0 < nd; i0 += kRowBlock) {
+      const int nq = nd - i0 < kRowBlock ? nd - i0 : kRowBlock;
+      double s[kRowBlock][kTile];
+      for (int q = 0; q < kRowBlock; ++q)
+        for (int b = 0; b < kTile; ++b) s[q][b] = 0;
+      for (int j = 0; j < n; ++j)
+        for (int q = 0; q < kRowBlock; ++q) {
+          const double c = q < nq ? Jv(t, i0 + q, j) : 0.0;
+          for (int b = 0; b < kTile; ++b) s[q][b] += c * g[j][b];
+        }
+      for (int q = 0; q < nq; ++q)
+        for (int b = 0; b < kTile; ++b) y[nd + i0 + q][b] = s[q][b];
+    }
+    const double hh = 0.5 * ex.h;
+    for (int i = 0; i < nd; ++i) {
+      const double c = ex.mass(t, i) > 0 ? hh : 0.0;
+      for (int b = 0; b < kTile; ++b) y[i][b] = g[i][b] + c * y[nd + i][b];
+    }
   }
 
   KOKKOS_INLINE_FUNCTION double minv(int t, int j) const {
@@ -378,6 +424,15 @@ struct BieIntegrator {
   KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int n = 2 * ex.nd, nd = ex.nd;
     tile_block_scale(t, g);
+    if (vfirst) {
+      double y[kMaxBie][kTile];
+      tile_vfirst(t, g, y);
+      for (int b = 0; b < nb; ++b) {
+        const int e = ex.tile_elem(k0 + b);
+        for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b], ex.v(e, j) += y[nd + j][b];
+      }
+      return;
+    }
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
       double y[kRowBlock][kTile];
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
@@ -482,7 +537,13 @@ struct BieIntegrator {
     tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
     tile_block_scale(t, g);
     // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
-    for (int i0 = 0; i0 < n; i0 += kRowBlock) {
+    if (vfirst) {
+      double y[kMaxBie][kTile];
+      tile_vfirst(t, g, y);
+      for (int j = 0; j < nd; ++j)
+        for (int b = 0; b < kTile; ++b) u[j][b] += y[j][b], v[j][b] += y[nd + j][b];
+    }
+    for (int i0 = 0; i0 < (vfirst ? 0 : n); i0 += kRowBlock) {
       double y[kRowBlock][kTile];
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
       tile_jinv_rows(t, i0, nq, g, y);
