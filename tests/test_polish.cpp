@@ -402,3 +402,46 @@ TEST_CASE("relaxation = gradient: FIRE alone, same load stepping, the same minim
     CHECK(gr[i].reaction == Catch::Approx(mc[i].reaction).epsilon(1e-5));
   }
 }
+
+TEST_CASE("Monte Carlo escapes a ruptured plateau where the gradient vanishes and FIRE stays",
+          "[mc][polish][metastable]") {
+  // Issue 9: keep Monte Carlo where it escapes the metastable states of rupture; show it. The
+  // notched specimen loaded in one jump to D = 0.012 (no load stepping): FIRE from the unloaded
+  // poses pulls the whole loaded row off and stops with all 24 ligament joints beyond x1 + x2.
+  // There every ruptured joint's energy is flat (k x1 x2), so the gradient is exactly zero and
+  // the residual test calls the state converged, although a crack through half as many joints
+  // (E halved) exists at the same load. Monte Carlo's thermal walk moves bricks along the flat
+  // plateau until joints come back within reach and close; FIRE after it lands in the lower
+  // state. Load stepping (the continuation) avoids the plateau altogether: it follows the crack
+  // from the notch and ends lower still.
+  auto d = notched_deck();
+  d.solver.residual_tolerance = 1e-8;
+  auto st = make(d);
+  const double D = 0.012;
+  mc::Solver a(d, st.s, st.f);
+  a.set_load(D);
+  REQUIRE(a.polish("fire").converged);
+  const double e_fire = a.energy();
+  const int r_fire = a.ruptured();
+  CHECK(a.residual() <= 1e-8);
+  // more gradient iterations do not move it: the gradient is zero on the plateau
+  REQUIRE(a.polish("fire").converged);
+  CHECK(a.energy() == e_fire);
+  CHECK(a.ruptured() == r_fire);
+  // 500 Monte Carlo cycles at the deck's temperature, then FIRE again
+  for (int c = 0; c < 500; ++c) a.cycle();
+  REQUIRE(a.polish("fire").converged);
+  const double e_mc = a.energy();
+  const int r_mc = a.ruptured();
+  // the continuation (FIRE at every 0.0005 of load from 0.001): the load-stepped path
+  mc::Solver c(d, st.s, st.f);
+  for (int k = 2; k <= 24; ++k) {
+    c.set_load(0.0005 * k);
+    REQUIRE(c.polish("fire").converged);
+  }
+  INFO("FIRE from rest: E " << e_fire << ", " << r_fire << " ruptured; + Monte Carlo: E " << e_mc << ", " << r_mc
+                            << " ruptured; continuation: E " << c.energy() << ", " << c.ruptured() << " ruptured");
+  CHECK(r_fire > r_mc);
+  CHECK(e_mc < 0.6 * e_fire);
+  CHECK(c.energy() <= e_mc);
+}
