@@ -104,7 +104,7 @@ dyn::Method method_of(const std::string& name) {
 
 std::size_t state_bytes(const dyn::StateArrays& s) {
   std::size_t b = 0;
-  for (const char* k : {"u", "v", "a", "acc"})
+  for (const char* k : {"u", "v", "a", "acc", "dacc"})
     if (auto it = s.find(k); it != s.end()) b += it->second.size() * sizeof(double);
   return b;
 }
@@ -147,6 +147,10 @@ int main(int argc, char* argv[]) {
   cli.allow_extras();
   CLI11_PARSE(cli, argc, argv);
   std::cout << std::unitbuf;  // progress lines reach a log even when a time limit kills the run (seen on an H100)
+  if (bie_iterations < 0 || bie_iterations > 16) {
+    std::cerr << "[dyn_step] --bie-iterations: expected 1 to 16 (0: the default, 2)\n";
+    return 2;
+  }
   if ((alpha_opt >= 0) != (beta_opt >= 0)) {
     std::cerr << "[dyn_step] --alpha and --beta go together (both >= 0)\n";
     return 2;

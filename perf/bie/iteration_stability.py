@@ -5,8 +5,8 @@ A chain of `nb` point masses (a brick's dofs, total mass m) joined by brick spri
 midpoint, Rayleigh damping C = beta K, as eq. 4.6) and held at both ends by mortar springs ki
 (explicit Verlet). One BIE step with `iters` iterations of the constant J of eq. 4.7 (the mortar
 term neglected) is a linear map of (p, v, a); the step is stable while its spectral radius is
-<= 1. The script bisects the largest stable h (in units of 1 / omega_i, omega_i = sqrt(ki / m))
-for 1-4 iterations and several beta omega_b (omega_b: the chain's highest brick frequency),
+<= 1. The script bisects the largest stable h (in units of 1 / omega_i, omega_i = sqrt(ki / m);
+nan: unstable even at 1e-3 / omega_i) for 1-4 iterations and several beta omega_b (omega_b: the chain's highest brick frequency),
 writing CSV to stdout:  devenv/nacre-env run python3 perf/bie/iteration_stability.py
 The residual forms are those of docs/methods.md ("The BIE step"): G_p, G_v, x += J^-1 G.
 """
@@ -38,7 +38,10 @@ def spectral_radius(M, K, C, Ki, h, iters):
 
 
 def critical(M, K, C, Ki, iters, wi):
+    """Largest stable h (bisection in log h), or nan where even h = 1e-3 / omega_i is unstable."""
     lo, hi = 1e-3 / wi, 1e2 / wi
+    if spectral_radius(M, K, C, Ki, lo, iters) > 1 + 1e-9:
+        return float("nan")
     for _ in range(60):
         mid = np.sqrt(lo * hi)
         if spectral_radius(M, K, C, Ki, mid, iters) <= 1 + 1e-9:

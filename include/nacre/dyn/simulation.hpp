@@ -71,8 +71,10 @@ struct Params {
   /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
   /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.
   bool bie_reuse_force = true;
-  /// BIE with C = 0, tiled J^-1 apply: skip the exact zero block and identity of J^-1 (half the
-  /// multiply-adds, the same bits); false = the dense product (benchmarks and tests compare them).
+  /// BIE, tiled J^-1 apply, by damping: C = 0 skips the exact zero block and identity of J^-1
+  /// (the same bits); C = alpha M multiplies the first nd columns after scaling g; beta != 0 the
+  /// velocity-first apply (one nd x 2nd matrix). Each halves the multiply-adds and equals the
+  /// dense product to rounding; false = the dense product (benchmarks and tests compare them).
   bool bie_block_structure = true;
   /// Interfaces numbered in element order (true, src/dyn/model.cpp) or in the geometry's order
   /// (false: the comparison in tests/dyn); outputs are in the geometry's order either way.
