@@ -148,18 +148,27 @@ struct BieIntegrator {
         for (int b = 0; b < kTile; ++b) g[j][b] -= jq * g[nd + j][b];
   }
 
+  /// y[q] = sum_{j < n} A(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of a per-type matrix:
+  /// kRowBlock accumulator rows, each matrix entry loaded once and broadcast over the tile.
+  template <class Mat>
+  KOKKOS_INLINE_FUNCTION static void tile_rows(const Mat& A, int t, int i0, int nq, int n,
+                                               const double (*KOKKOS_RESTRICT g)[kTile],
+                                               double (*KOKKOS_RESTRICT y)[kTile]) {
+    for (int q = 0; q < kRowBlock; ++q)
+      for (int b = 0; b < kTile; ++b) y[q][b] = 0;
+    for (int j = 0; j < n; ++j)
+      for (int q = 0; q < kRowBlock; ++q) {
+        const double c = q < nq ? A(t, i0 + q, j) : 0.0;
+        for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
+      }
+  }
+
   /// y[q] = sum_j J(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of J^-1 (dense, or the block
   /// structure: the same terms in the same order less the exact zeros).
   KOKKOS_INLINE_FUNCTION void tile_jinv_rows(int t, int i0, int nq, const double (*KOKKOS_RESTRICT g)[kTile],
                                              double (*KOKKOS_RESTRICT y)[kTile]) const {
     const int nd = ex.nd, n = block_lower ? nd : 2 * nd;
-    for (int q = 0; q < kRowBlock; ++q)
-      for (int b = 0; b < kTile; ++b) y[q][b] = 0;
-    for (int j = 0; j < n; ++j)
-      for (int q = 0; q < kRowBlock; ++q) {
-        const double c = q < nq ? J(t, i0 + q, j) : 0.0;
-        for (int b = 0; b < kTile; ++b) y[q][b] += c * g[j][b];
-      }
+    tile_rows(J, t, i0, nq, n, g, y);
     if (block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
       for (int q = 0; q < nq; ++q)
         if (i0 + q >= nd) {
@@ -177,13 +186,7 @@ struct BieIntegrator {
     for (int i0 = 0; i0 < nd; i0 += kRowBlock) {
       const int nq = nd - i0 < kRowBlock ? nd - i0 : kRowBlock;
       double s[kRowBlock][kTile];
-      for (int q = 0; q < kRowBlock; ++q)
-        for (int b = 0; b < kTile; ++b) s[q][b] = 0;
-      for (int j = 0; j < n; ++j)
-        for (int q = 0; q < kRowBlock; ++q) {
-          const double c = q < nq ? Jv(t, i0 + q, j) : 0.0;
-          for (int b = 0; b < kTile; ++b) s[q][b] += c * g[j][b];
-        }
+      tile_rows(Jv, t, i0, nq, n, g, s);
       for (int q = 0; q < nq; ++q)
         for (int b = 0; b < kTile; ++b) y[nd + i0 + q][b] = s[q][b];
     }
