@@ -164,6 +164,13 @@ int main(int argc, char* argv[]) {
       if (damping == "table42_mass") b = 0;
     }
   };
+  // what a method name and a size set beyond params_for: the damping, the J^-1 apply form
+  // (bie_dense: dense apply and full last iteration, the comparison) and BIE's iterations
+  auto variant = [&](dyn::Params& q, const std::string& mname, long n) {
+    damping_for(n, q.alpha_d, q.beta_d);
+    q.bie_block_structure = mname != "bie_dense";
+    if (bie_iterations > 0) q.bie_iterations = bie_iterations;
+  };
 
   const Kokkos::DefaultExecutionSpace space;
   const int threads = space.concurrency();
@@ -188,9 +195,7 @@ int main(int argc, char* argv[]) {
     for (long n : sizes)
       for (const auto& mname : methods) {
         dyn::Params q = params_for(ds, method_of(mname));
-        damping_for(n, q.alpha_d, q.beta_d);
-        q.bie_block_structure = mname != "bie_dense";
-        if (bie_iterations > 0) q.bie_iterations = bie_iterations;
+        variant(q, mname, n);
         const auto key = std::make_pair(mname, std::make_pair(q.alpha_d, q.beta_d));
         if (!found.count(key)) {
           double h = dyn::critical_step(q, ss, fs, ds.mortar, 1000, 0.05);
@@ -221,9 +226,7 @@ int main(int argc, char* argv[]) {
       const dyn::Method m = method_of(mname);
       dyn::Params p = params_for(d, m);
       p.dt = dt[{mname, n}];
-      damping_for(n, p.alpha_d, p.beta_d);
-      if (bie_iterations > 0) p.bie_iterations = bie_iterations;
-      p.bie_block_structure = mname != "bie_dense";  // bie_dense: dense J^-1 apply and full last iteration (the comparison)
+      variant(p, mname, n);
       p.element_apply = apply == "tiled" ? dyn::ElementApply::tiled
                         : apply == "per_element" ? dyn::ElementApply::per_element
                                                  : dyn::ElementApply::automatic;

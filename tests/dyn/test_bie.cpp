@@ -270,7 +270,7 @@ TEST_CASE("bie: with stiffness damping the velocity-first apply equals the dense
     CHECK_FALSE(b.block_lower);
     REQUIRE(b.Jv.extent(1) == static_cast<std::size_t>(m.nd));
     REQUIRE(b.Jv.extent(2) == static_cast<std::size_t>(2 * m.nd));
-    // Jv against J^-1 itself, on a random g: J^-1 g = [g~_p + h/2 Jv g~; Jv g~] (host, type 0)
+    // Jv against J^-1 itself, on a random g: J^-1 g = [g~_p + h/2 Jv g~; Jv g~] (host, every type)
     const auto Jh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, b.Jinv);
     const auto Vh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, b.Jv);
     const auto Mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);

@@ -545,16 +545,17 @@ struct BieIntegrator {
       tile_vfirst(t, g, y);
       for (int j = 0; j < nd; ++j)
         for (int b = 0; b < kTile; ++b) u[j][b] += y[j][b], v[j][b] += y[nd + j][b];
-    }
-    for (int i0 = 0; i0 < (vfirst ? 0 : n); i0 += kRowBlock) {
-      double y[kRowBlock][kTile];
-      const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      tile_jinv_rows(t, i0, nq, g, y);
-      for (int q = 0; q < nq; ++q) {
-        const int row = i0 + q;
-        for (int b = 0; b < kTile; ++b) {
-          if (row < nd) u[row][b] += y[q][b];
-          else v[row - nd][b] += y[q][b];
+    } else {
+      for (int i0 = 0; i0 < n; i0 += kRowBlock) {
+        double y[kRowBlock][kTile];
+        const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
+        tile_jinv_rows(t, i0, nq, g, y);
+        for (int q = 0; q < nq; ++q) {
+          const int row = i0 + q;
+          for (int b = 0; b < kTile; ++b) {
+            if (row < nd) u[row][b] += y[q][b];
+            else v[row - nd][b] += y[q][b];
+          }
         }
       }
     }
