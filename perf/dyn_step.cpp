@@ -99,7 +99,7 @@ double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n
 }
 
 dyn::Method method_of(const std::string& name) {
-  return name == "ue" ? dyn::Method::ue : (name == "bie" || name == "bie_dense") ? dyn::Method::bie : dyn::Method::be;
+  return name == "ue" ? dyn::Method::ue : (name == "bie" || name == "bie_dense" || name == "bie_split") ? dyn::Method::bie : dyn::Method::be;
 }
 
 std::size_t state_bytes(const dyn::StateArrays& s) {
@@ -169,6 +169,7 @@ int main(int argc, char* argv[]) {
   auto variant = [&](dyn::Params& q, const std::string& mname, long n) {
     damping_for(n, q.alpha_d, q.beta_d);
     q.bie_block_structure = mname != "bie_dense";
+    if (mname == "bie_split") q.bie_scheme = dyn::BieScheme::split;
     if (bie_iterations > 0) q.bie_iterations = bie_iterations;
   };
 

@@ -118,6 +118,11 @@ TEST_CASE("bad [dynamics] values are errors with file, line and key", "[deck][dy
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_iterations = 17\n"), StartsWith("dyn.toml:19: dynamics.bie_iterations:"));
   CHECK(parse_deck_string(base + "method = \"bie\"\nbie_iterations = 3\n", "dyn.toml").dynamics.bie_iterations == 3);
   CHECK(parse_deck_string(base, "dyn.toml").dynamics.bie_iterations == 2);
+  CHECK(parse_deck_string(base, "dyn.toml").dynamics.bie_scheme == "iterate");
+  CHECK(parse_deck_string(base + "method = \"bie\"\nbie_scheme = \"split\"\n", "dyn.toml").dynamics.bie_scheme == "split");
+  CHECK_THAT(error_of(base + "method = \"bie\"\nbie_scheme = \"splitt\"\n"), StartsWith("dyn.toml:19: dynamics.bie_scheme:"));
+  CHECK_THAT(error_of(base + "method = \"bie\"\nbie_scheme = \"split\"\nbie_iterations = 3\n"),
+             StartsWith("dyn.toml:20: dynamics.bie_iterations:"));
   CHECK_THAT(error_of(base + "method = 1\n"), StartsWith("dyn.toml:18: dynamics.method: wrong type"));
   CHECK_THAT(error_of(base + "stiffness_ratio = -1\n"), StartsWith("dyn.toml:18: dynamics.stiffness_ratio: value -1 out of range"));
   CHECK_THAT(error_of(base + "stiffness_ratio = 10\nyoungs_modulus = 2000\n"),

@@ -102,6 +102,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   dyn::parse_bie_solve(D.bie_solve, p.bie_solve);  // validated by the deck reader
   p.bie_block = D.bie_block;
   p.bie_iterations = D.bie_iterations;
+  p.bie_scheme = D.bie_scheme == "split" ? dyn::BieScheme::split : dyn::BieScheme::iterate;
   p.youngs_modulus = D.modulus();
   p.poisson = D.poisson;
   p.density = D.density;

@@ -114,7 +114,7 @@ struct Simulation::Impl {
       auto bi = bie_integrator();
       bi.ex = it;
       bie_step(space, bi, InterfaceOp<Mem>(m, u, iforce), bie_solver(), p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force,
-               m.n_elem, m.n_iface, n_tiles, bie_fused());
+               m.n_elem, m.n_iface, n_tiles, bie_fused(), p.bie_scheme == BieScheme::split);
     } else {
       verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     }

@@ -166,14 +166,16 @@ TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_g
         CHECK(std::abs(ea[k] - ec[k]) <= 1e-8 * scale);
       }
     }
-  // the other fused kernels: more iterations (BieIterTileTag before the fused last one) and the
-  // force re-evaluated at x_{n+1} (BieIterTileTag + BieFinalTileTag, no fused end)
-  for (int mode : {0, 1}) {
+  // the other fused kernels: more iterations (BieIterTileTag before the fused last one), the
+  // force re-evaluated at x_{n+1} (BieIterTileTag + BieFinalTileTag, no fused end) and the split
+  // step (BieSplitStartTileTag, BieSplitFinalTileTag)
+  for (int mode : {0, 1, 2}) {
     auto p = cracking(dyn::Method::bie, true, false);
     p.bie_solve = dyn::BieSolve::shared_gemm;
     p.dt = 4 * estimate(p, st);
     if (mode == 0) p.bie_iterations = 3;
-    else p.bie_reuse_force = false;
+    else if (mode == 1) p.bie_reuse_force = false;
+    else p.bie_scheme = dyn::BieScheme::split;
     p.bie_block_structure = false;  // the dense apply on both paths: the same bits
     int r0 = 0, r1 = 0;
     const auto a = run(p, st, dyn::ElementApply::per_element, 400, r0);

@@ -112,6 +112,12 @@ struct BieIterTileTag {};
 struct BieFinalTileTag {};
 struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
 struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
+// the split step (BieScheme::split): start = half kick + the linear midpoint's residual, one J^-1
+// apply, the interface force at p_{n+1}, final = books + half kick + a_{n+1}
+struct BieSplitStartTag {};
+struct BieSplitFinalTag {};
+struct BieSplitStartTileTag {};
+struct BieSplitFinalTileTag {};
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
 /// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
@@ -218,15 +224,24 @@ struct BieIntegrator {
     }
   }
 
+  /// The explicit force of element e: the interface force gathered in a fixed order + Theta + F_p.
+  KOKKOS_INLINE_FUNCTION void explicit_force(int e, int t, double* f) const {
+    ex.gather(e, f);
+    for (int j = 0; j < ex.nd; ++j) f[j] += ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0);
+  }
+
   /// a(x) of the current iterate (interface force gathered in a fixed order).
   KOKKOS_INLINE_FUNCTION void accel(int e, int t, double* ax) const {
+    double f[kMaxDof];
+    explicit_force(e, t, f);
+    accel_of(e, t, f, ax);
+  }
+
+  /// a(x) of the current state of element e for the explicit force f.
+  KOKKOS_INLINE_FUNCTION void accel_of(int e, int t, const double* f, double* ax) const {
     const int nd = ex.nd;
-    double f[kMaxDof], w[kMaxDof];
-    ex.gather(e, f);
-    for (int j = 0; j < nd; ++j) {
-      f[j] += ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0);
-      w[j] = ex.u(e, j) + ex.beta * ex.v(e, j);
-    }
+    double w[kMaxDof];
+    for (int j = 0; j < nd; ++j) w[j] = ex.u(e, j) + ex.beta * ex.v(e, j);
     for (int i = 0; i < nd; ++i) {
       double kw = 0;
       for (int j = 0; j < nd; ++j) kw += ex.K(t, i, j) * w[j];
@@ -297,6 +312,81 @@ struct BieIntegrator {
     ex.acc(e, kWork) += work;
     ex.acc(e, kDamp) += pd;
     ex.acc(e, kBieG2) = g2, ex.acc(e, kBieD2) = d2;
+  }
+
+  // ---- the split step (BieScheme::split, docs/methods.md "The split step"). The state between
+  // steps is (p, v, a) as for the iterated step; F = interface force + Theta + F_p (explicit).
+  //   start: phi = M^-1 F_n = a_n + M^-1 K (p_n + beta v_n) + alpha v_n (recovered from a_n, so
+  //          the step needs no interface force of p_n: restart and roll-back keep working),
+  //          v+ = v_n + h/2 phi (half kick), and the linear midpoint from (p_n, v+): at x^0 =
+  //          (p_n, v+) its residual is G = (h v+ + h^2/2 a_L, h a_L), a_L = -M^-1 K (p_n + beta
+  //          v+) - alpha v+, and J of eq. 4.7 is its exact Jacobian: one apply solves it
+  //          (p_{n+1}, v-). pn, vn keep p_n and v+.
+  //   then the interface force at p_{n+1};
+  //   final: books (work of Theta + F_p over dp; damping dp . C (v+ + v-)/2, the midpoint's exact
+  //          dissipation), v_{n+1} = v- + h/2 M^-1 F_{n+1} (half kick), a_{n+1} = a(x_{n+1}).
+  // The per-element and tiled kernels do the same operations in the same order (the same bits).
+
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTag, int e) const {
+    if (ex.drive(e) != 0) {
+      ex(InitialTag{}, e);
+      return;
+    }
+    const int t = ex.type(e), s = slot_of_elem(e), nd = ex.nd;
+    const double h = ex.h;
+    double p[kMaxDof], v[kMaxDof], w[kMaxDof], kw[kMaxDof];
+    for (int j = 0; j < nd; ++j) p[j] = ex.u(e, j), v[j] = ex.v(e, j), w[j] = p[j] + ex.beta * v[j];
+    for (int i = 0; i < nd; ++i) {
+      kw[i] = 0;
+      for (int j = 0; j < nd; ++j) kw[i] += ex.K(t, i, j) * w[j];
+    }
+    for (int i = 0; i < nd; ++i) v[i] += 0.5 * h * (ex.a(e, i) + minv(t, i) * kw[i] + ex.alpha * v[i]);
+    if (ex.beta != 0.0) {  // else K (p_n + beta v+) = K p_n: kw
+      for (int j = 0; j < nd; ++j) w[j] = p[j] + ex.beta * v[j];
+      for (int i = 0; i < nd; ++i) {
+        kw[i] = 0;
+        for (int j = 0; j < nd; ++j) kw[i] += ex.K(t, i, j) * w[j];
+      }
+    }
+    for (int i = 0; i < nd; ++i) {
+      const double al = -minv(t, i) * kw[i] - ex.alpha * v[i];
+      R(s, i) = h * v[i] + 0.5 * h * h * al;
+      R(s, nd + i) = h * al;
+      pn(e, i) = p[i], vn(e, i) = v[i], ex.v(e, i) = v[i];
+    }
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTag, int e) const {
+    if (ex.drive(e) != 0) {
+      if (book) ex(FinalTag{}, e);
+      return;
+    }
+    const int t = ex.type(e), nd = ex.nd;
+    const double h = ex.h;
+    double f[kMaxDof], ax[kMaxDof];
+    explicit_force(e, t, f);
+    if (book) {
+      double work = 0, pd = 0, d2 = 0, dp[kMaxDof], vm[kMaxDof];
+      for (int j = 0; j < nd; ++j) {
+        dp[j] = ex.u(e, j) - pn(e, j);
+        vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
+        work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * dp[j];
+      }
+      for (int i = 0; i < nd; ++i) {
+        double kv = 0;
+        if (ex.beta != 0.0)
+          for (int j = 0; j < nd; ++j) kv += ex.K(t, i, j) * vm[j];
+        const double m = ex.mass(t, i), dv = ex.v(e, i) - vn(e, i);
+        pd += dp[i] * (ex.alpha * m * vm[i] + (ex.beta != 0.0 ? ex.beta * kv : 0.0));
+        d2 += m * dv * dv;
+      }
+      ex.acc(e, kWork) += work;
+      ex.acc(e, kDamp) += pd;
+      ex.acc(e, kBieG2) = 0.0, ex.acc(e, kBieD2) = d2;  // no iteration: nothing left unconverged
+    }
+    for (int j = 0; j < nd; ++j) ex.v(e, j) += 0.5 * h * minv(t, j) * f[j];
+    accel_of(e, t, f, ax);
+    for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
   }
 
   // ---- fused tiled path. Every per-element sum is the one of the unfused kernels in the same
@@ -396,7 +486,7 @@ struct BieIntegrator {
                                          const double (*KOKKOS_RESTRICT v)[kTile],
                                          const double (*KOKKOS_RESTRICT ax)[kTile], const double (*KOKKOS_RESTRICT pn0)[kTile],
                                          const double (*KOKKOS_RESTRICT v0)[kTile], const double (*KOKKOS_RESTRICT a0)[kTile],
-                                         double* work, double* pd, double* g2, double* d2) const {
+                                         double* work, double* pd, double* g2, double* d2, bool residual = true) const {
     const int nd = ex.nd;
     const double h = ex.h;
     double dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile];
@@ -417,7 +507,7 @@ struct BieIntegrator {
       for (int b = 0; b < kTile; ++b) {
         pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + (ex.beta != 0.0 ? ex.beta * kv[i][b] : 0.0));
         const double dvi = v[i][b] - v0[i][b];
-        const double gv = 0.5 * h * (a0[i][b] + ax[i][b]) - dvi;
+        const double gv = residual ? 0.5 * h * (a0[i][b] + ax[i][b]) - dvi : 0.0;  // the split: no residual
         g2[b] += m * gv * gv, d2[b] += m * dvi * dvi;
       }
     }
@@ -611,6 +701,83 @@ struct BieIntegrator {
       ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
     }
   }
+
+  /// The split step's start (BieSplitStartTag) and its one J^-1 apply and update, per tile.
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      ex(InitialTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double p[kMaxDof][kTile], v[kMaxDof][kTile], wv[kMaxDof][kTile], kw[kMaxDof][kTile], g[kMaxBie][kTile];
+    for (int b = 0; b < kTile; ++b) {  // a_n parked in g's velocity rows
+      const bool live = b < nb;
+      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      for (int j = 0; j < nd; ++j) {
+        p[j][b] = live ? ex.u(e, j) : 0.0, v[j][b] = live ? ex.v(e, j) : 0.0, g[nd + j][b] = live ? ex.a(e, j) : 0.0;
+        wv[j][b] = p[j][b] + ex.beta * v[j][b];
+      }
+    }
+    tile_K(t, wv, kw);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) v[i][b] += 0.5 * h * (g[nd + i][b] + mi * kw[i][b] + ex.alpha * v[i][b]);
+    }
+    if (ex.beta != 0.0) {
+      for (int j = 0; j < nd; ++j)
+        for (int b = 0; b < kTile; ++b) wv[j][b] = p[j][b] + ex.beta * v[j][b];
+      tile_K(t, wv, kw);
+    }
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) {
+        const double al = -mi * kw[i][b] - ex.alpha * v[i][b];
+        g[i][b] = h * v[i][b] + 0.5 * h * h * al;
+        g[nd + i][b] = h * al;
+      }
+    }
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) pn(e, j) = p[j][b], vn(e, j) = v[j][b], ex.v(e, j) = v[j][b];
+    }
+    tile_solve_update(t, k0, nb, g);
+  }
+
+  /// The split step's end (BieSplitFinalTag) per tile; driven elements as the explicit methods.
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTileTag, int w) const {
+    if (w >= ex.n_tiles) {
+      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const double h = ex.h;
+    double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
+    tile_load(t, k0, nb, f, u, v);
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    if (book) {
+      double p0[kMaxDof][kTile], v0[kMaxDof][kTile];
+      for (int b = 0; b < kTile; ++b) {
+        const bool live = b < nb;
+        const int e = ex.tile_elem(k0 + (live ? b : 0));
+        for (int j = 0; j < nd; ++j) p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0;
+      }
+      tile_books(t, k0, nb, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2, false);  // no residual: no a
+    }
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < kTile; ++b) v[i][b] += 0.5 * h * mi * f[i][b];
+    }
+    tile_acc(t, f, u, v, ax);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
+      if (!book) continue;
+      ex.acc(e, kWork) += work[b];
+      ex.acc(e, kDamp) += pd[b];
+      ex.acc(e, kBieG2) = 0.0, ex.acc(e, kBieD2) = d2[b];
+    }
+  }
 };
 
 // ---- the J^-1 apply: R(s, :) <- J^-1(type(s)) R(s, :) for every slot, in place
@@ -748,8 +915,32 @@ template <class ExecutionSpace>
 void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSpace>>& it,
               const InterfaceOp<MemOf<ExecutionSpace>>& op, const BieSolveOp<MemOf<ExecutionSpace>>& solve,
               BieSolve variant, int block, int iterations, bool reuse_force, int n_elem, int n_iface, int n_tiles,
-              bool fused = false) {
+              bool fused = false, bool split = false) {
   using Exec = ExecutionSpace;
+  if (split) {  // BieScheme::split: start (half kick, residual) + one J^-1 apply, force at p_{n+1}, end
+    const int nw = it.ex.n_tiles + it.ex.n_driven;
+    {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
+      if (fused)
+        Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled", Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw),
+                             it);
+      else {
+        Kokkos::parallel_for("nacre::dyn::bie_split_start", Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, n_elem), it);
+        bie_solve(space, solve, variant, block, n_elem, n_tiles);
+        Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, n_elem), it);
+      }
+    }
+    {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+      Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
+    }
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
+    if (fused)
+      Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled", Kokkos::RangePolicy<Exec, BieSplitFinalTileTag>(space, 0, nw), it);
+    else
+      Kokkos::parallel_for("nacre::dyn::bie_split_final", Kokkos::RangePolicy<Exec, BieSplitFinalTag>(space, 0, n_elem), it);
+    return;
+  }
   if (fused) {  // shared J^-1 over the element tiles, residual never stored (BieStartTileTag ...)
     const int nw = it.ex.n_tiles + it.ex.n_driven;
     {

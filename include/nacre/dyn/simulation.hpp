@@ -40,6 +40,16 @@ enum class BieSolve : std::uint8_t { row, reordered, batched, shared_gemm };
 /// layout is LayoutRight (CPU), per_element on a GPU and for UE (6-dof triangles: no gain, measured). Same sums in the same order: bit-identical results.
 enum class ElementApply : std::uint8_t { automatic, per_element, tiled };
 
+/// \brief BIE's step (docs/methods.md "The split step"): iterate = eq. 4.6, Params::bie_iterations
+/// Newton iterations with the constant J of eq. 4.7 (the dissertation); split = the same partition
+/// (implicit midpoint for the element terms K, C; explicit for the interface, thermal and applied
+/// forces) as a Strang splitting: half kick with the explicit forces at p_n, one implicit-midpoint
+/// step of the linear element part (one J^-1 apply solves it exactly), half kick with the explicit
+/// forces at p_{n+1}. With C = 0 both give the same step (to rounding); with damping the split is
+/// unconditionally stable in K and C, its step set by the interface (Verlet) limit alone, at one
+/// J^-1 apply and one interface evaluation per step.
+enum class BieScheme : std::uint8_t { iterate, split };
+
 /// \brief Time profile of the prescribed opening D(t).
 enum class Ramp : std::uint8_t { linear, smooth };
 
@@ -67,6 +77,7 @@ struct Params {
   BieSolve bie_solve = BieSolve::shared_gemm;  ///< BIE: implementation of the J^-1 apply
   int bie_block = 4;                     ///< BIE reordered matvec: rows per block NB (2, 4, 5, 10)
   int bie_iterations = 2;                ///< BIE: Newton iterations per step with the constant J (eq. 4.6: 2)
+  BieScheme bie_scheme = BieScheme::iterate;  ///< BIE: eq. 4.6's iterations or the split step (bie_iterations unused)
   /// BIE: true = the interface force of the last iterate's predecessor is kept for a_{n+1} (one
   /// interface evaluation per iteration but none after the last: exact when C = 0, where the last
   /// iteration does not move p; O(h^3) otherwise); false = re-evaluated at x_{n+1}.

@@ -60,6 +60,12 @@ void read_dynamics(Section& top, Deck& d) {
     s.integer("bie_iterations", {}, ni, 1, 16, "1 to 16 (iterations with the constant Jacobian per step)");
     D.bie_iterations = static_cast<int>(ni);
   }
+  s.string("bie_scheme", D.bie_scheme, {"iterate", "split"},
+           "\"iterate\" (eq. 4.6: bie_iterations iterations with the constant Jacobian) or \"split\" (half kicks "
+           "around one implicit-midpoint solve of the bricks: docs/methods.md)");
+  if (D.bie_scheme == "split" && s.find("bie_iterations", {}) != nullptr)
+    s.fail("bie_iterations", "given with bie_scheme = \"split\", which solves each step with one J^-1 apply; expected "
+                             "no bie_iterations (or bie_scheme = \"iterate\")");
 
   const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
@@ -118,7 +124,7 @@ void read_dynamics(Section& top, Deck& d) {
   if (has_dt && D.end_time / D.dt > 1e12)
     s.fail("dt", "end_time / dt exceeds 1e12 steps; expected a larger dt or a shorter end_time");
 
-  s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
+  s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "bie_scheme", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
                     "csv_interval", "dump_interval"});
