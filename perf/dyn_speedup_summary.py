@@ -20,7 +20,7 @@ def main():
         h = lambda r: float(r["dt"])
         for n in sorted({r["bricks"] for r in rows}, key=int):
             ue, be = by.get(("ue", n)), by[("be", n)]
-            for var in ("bie", "bie_dense"):
+            for var in ("bie", "bie_dense", "bie_split"):
                 if (var, n) not in by:
                     continue
                 b = by[(var, n)]

@@ -118,7 +118,8 @@ TEST_CASE("bad [dynamics] values are errors with file, line and key", "[deck][dy
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_iterations = 17\n"), StartsWith("dyn.toml:19: dynamics.bie_iterations:"));
   CHECK(parse_deck_string(base + "method = \"bie\"\nbie_iterations = 3\n", "dyn.toml").dynamics.bie_iterations == 3);
   CHECK(parse_deck_string(base, "dyn.toml").dynamics.bie_iterations == 2);
-  CHECK(parse_deck_string(base, "dyn.toml").dynamics.bie_scheme == "iterate");
+  CHECK(parse_deck_string(base, "dyn.toml").dynamics.bie_scheme == "auto");
+  CHECK(parse_deck_string(base + "method = \"bie\"\nbie_iterations = 3\n", "dyn.toml").dynamics.bie_scheme == "iterate");
   CHECK(parse_deck_string(base + "method = \"bie\"\nbie_scheme = \"split\"\n", "dyn.toml").dynamics.bie_scheme == "split");
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_scheme = \"splitt\"\n"), StartsWith("dyn.toml:19: dynamics.bie_scheme:"));
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_scheme = \"split\"\nbie_iterations = 3\n"),

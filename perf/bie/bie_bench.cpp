@@ -271,11 +271,21 @@ double history_error(const History& a, const History& ref) {
   return e / s;
 }
 
-void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps, int levels, std::ostream& out) {
+// --damped: Table 4.2's Rayleigh damping (alpha_d, beta_d of the nearest tabulated size) on every
+// method, references included. bie_split is BIE with the split step (BieScheme::split).
+void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps, int levels, bool damped,
+              std::ostream& out) {
   const auto st = specimen(bricks);
-  const dyn::Method ms[3] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie};
-  double h[3];
-  for (int k = 0; k < 3; ++k) h[k] = crit(params(ms[k], ratio), st, crit_steps, 0.02);
+  const dyn::Method ms[4] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie, dyn::Method::bie};
+  const char* names[4] = {"ue", "be", "bie", "bie_split"};
+  auto params = [&](dyn::Method m, double r, int k = -1) {
+    dyn::Params p = ::params(m, r);
+    if (damped) dyn::table_4_2_damping(10206, r, p.alpha_d, p.beta_d);
+    if (k == 3) p.bie_scheme = dyn::BieScheme::split;
+    return p;
+  };
+  double h[4];
+  for (int k = 0; k < 4; ++k) h[k] = crit(params(ms[k], ratio, k), st, crit_steps, 0.02);
   const double T = T_in_bie_steps * h[2];
   const int samples = 16;
   // common reference: BE (the bolted model) at 1/8 of its smallest step below; UE's own
@@ -289,18 +299,19 @@ void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps,
   const History ref_ue = history(pue, st, T, samples);
   std::cerr << "accuracy: references done (BE " << ref_be.wall << " s, UE " << ref_ue.wall << " s)\n";
   out << "method,ratio,bricks,step_s,step_over_critical,sim_time_s,wall_s,err_own_ref,err_bolted_ref,final_strain,stable,"
-         "newton_residual\n";
-  for (int k = 0; k < 3; ++k)
+         "newton_residual,alpha_d,beta_d\n";
+  for (int k = 0; k < 4; ++k)
     for (int l = 0; l <= levels; ++l) {
-      auto p = params(ms[k], ratio);
+      auto p = params(ms[k], ratio, k);
       p.dt = 0.95 * h[k] * std::pow(0.5, l);
       const History a = history(p, st, T, samples);
       const History& own = k == 0 ? ref_ue : ref_be;
-      out << name(ms[k]) << "," << ratio << "," << st.s.size() << "," << a.dt << "," << a.dt / h[k] << "," << T << ","
+      out << names[k] << "," << ratio << "," << st.s.size() << "," << a.dt << "," << a.dt / h[k] << "," << T << ","
           << a.wall << "," << history_error(a, own) << "," << history_error(a, ref_be) << ","
-          << (a.strain.empty() ? 0.0 : a.strain.back()) << "," << a.ok << "," << a.newton << "\n";
+          << (a.strain.empty() ? 0.0 : a.strain.back()) << "," << a.ok << "," << a.newton << "," << p.alpha_d << ","
+          << p.beta_d << "\n";
       out.flush();
-      std::cerr << "accuracy " << name(ms[k]) << " h/hcrit " << p.dt / h[k] << ": err " << history_error(a, own) << "\n";
+      std::cerr << "accuracy " << names[k] << " h/hcrit " << p.dt / h[k] << ": err " << history_error(a, own) << "\n";
     }
 }
 
@@ -374,6 +385,8 @@ int main(int argc, char** argv) {
   auto* a = app.add_subcommand("accuracy", "strain-energy history error vs step and wall time");
   a->add_option("--bricks", bricks), a->add_option("--ratio", ratio), a->add_option("--steps", steps),
       a->add_option("--horizon", horizon, "simulated time in BIE critical steps"), a->add_option("--levels", levels);
+  bool damped = false;
+  a->add_flag("--damped", damped, "Table 4.2's Rayleigh damping on every method (and the references)");
   auto* f = app.add_subcommand("fail", "BIE error and stability as the step grows beyond BE's critical step");
   f->add_option("--bricks", bricks), f->add_option("--ratios", ratios), f->add_option("--steps", steps),
       f->add_option("--horizon", horizon, "simulated time in BIE critical steps");
@@ -388,7 +401,7 @@ int main(int argc, char** argv) {
   if (*c) critical(bricks, ratios, steps, rtol, out);
   if (*t) timing(sizes, ratio, steps, out);
   if (*s) speedup(bricks, ratios, bie_steps, steps, safety, out);
-  if (*a) accuracy(bricks, ratio, steps, horizon, levels, out);
+  if (*a) accuracy(bricks, ratio, steps, horizon, levels, damped, out);
   if (*f) fail(bricks, ratios, steps, horizon, out);
   if (*m) memory(sizes, ratio, out);
   return 0;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Charts and headline numbers of the issue-8 experiments (perf/bie/run_bie_bench.sh).
 
-usage: plot_bie.py OUTDIR EXPERIMENT   (critical|timing|speedup|accuracy|fail|memory)
+usage: plot_bie.py OUTDIR EXPERIMENT   (critical|timing|speedup|accuracy|accuracy_damped|fail|memory)
 Reads OUTDIR/<experiment>*.csv, writes OUTDIR/<experiment>.png and OUTDIR/<experiment>.json.
 """
 import csv
@@ -15,7 +15,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COL = {"ue": "tab:red", "be": "tab:blue", "bie": "tab:green"}
+COL = {"ue": "tab:red", "be": "tab:blue", "bie": "tab:green", "bie_split": "tab:purple"}
 
 
 def rows(path):
@@ -118,13 +118,17 @@ def pareto(points):
     return front
 
 
-def accuracy(out):
-    r = rows(os.path.join(out, "accuracy.csv"))
+def accuracy(out, name="accuracy"):
+    r = rows(os.path.join(out, name + ".csv"))
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     data = {"order": {}, "bricks": int(r[0]["bricks"])}
+    damped = float(r[0].get("beta_d", 0) or 0) > 0
+    if damped:
+        data["alpha_d"], data["beta_d"] = float(r[0]["alpha_d"]), float(r[0]["beta_d"])
     allpts = []
-    for m in ("ue", "be", "bie"):
+    for m in [m for m in ("ue", "be", "bie", "bie_split") if any(x["method"] == m for x in r)]:
         rs = [x for x in r if x["method"] == m and x["stable"] == "1"]
+        data.setdefault("unstable", {})[m] = [float(x["step_over_critical"]) for x in r if x["method"] == m and x["stable"] != "1"]
         h = [float(a["step_s"]) for a in rs]; e = [float(a["err_own_ref"]) for a in rs]
         ax.loglog(h, e, "o-", color=COL[m], label=m.upper())
         # fitted order over the three smallest steps (the asymptotic range)
@@ -141,8 +145,13 @@ def accuracy(out):
     ax.set_title("Order: " + ", ".join("%s %.2f" % (k.upper(), v) for k, v in data["order"].items()))
     ax.legend(); ax.grid(True, which="both", alpha=.3)
     ax2.set_xlabel("wall time (s)"); ax2.set_ylabel("strain-energy history error (vs bolted reference)")
-    ax2.set_title("Accuracy against time, ratio 500, %d bricks" % data["bricks"]); ax2.legend(); ax2.grid(True, which="both", alpha=.3)
-    save(out, "accuracy", fig, data)
+    ax2.set_title("Accuracy against time, ratio 500, %d bricks%s" % (data["bricks"], ", Table 4.2 damping" if damped else ""))
+    ax2.legend(); ax2.grid(True, which="both", alpha=.3)
+    save(out, name, fig, data)
+
+
+def accuracy_damped(out):
+    accuracy(out, "accuracy_damped")
 
 
 def fail(out):

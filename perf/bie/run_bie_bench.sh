@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Chapter 4 experiments (issue 8), one command each:
-#   perf/bie/run_bie_bench.sh critical|timing|speedup|accuracy|fail|memory|all [OUTDIR]
+#   perf/bie/run_bie_bench.sh critical|timing|speedup|accuracy|accuracy_damped|fail|memory|all [OUTDIR]
 # Builds nacre_perf_bie, runs the experiment into OUTDIR (default perf/results/bie), writes the
 # CSV, the chart (PNG) and a JSON of the headline numbers (perf/bie/plot_bie.py), and the load
 # average during the run (machine.txt). Sizes are modest on purpose (a shared 2-core machine);
@@ -36,6 +36,10 @@ one() {
     note accuracy
     run env $env $exe accuracy --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 20 --levels 3 \
       --out "$out/accuracy.csv" --kokkos-num-threads=2 ;;
+  accuracy_damped)
+    note accuracy_damped
+    run env $env $exe accuracy --damped --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 20 --levels 3 \
+      --out "$out/accuracy_damped.csv" --kokkos-num-threads=2 ;;
   fail)
     note fail
     run env $env $exe fail --bricks "${BIE_BRICKS:-200}" --ratios 10,100,500 --steps 1000 --horizon 160 \
@@ -49,7 +53,7 @@ one() {
 }
 
 if [ "$what" = all ]; then
-  for w in critical memory accuracy fail speedup timing; do one $w; done
+  for w in critical memory accuracy accuracy_damped fail speedup timing; do one $w; done
 else
   one "$what"
 fi

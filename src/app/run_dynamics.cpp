@@ -92,6 +92,12 @@ void run_charts(const std::filesystem::path& dir, std::ostream* log) {
   else if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
 }
 
+/// " (split step)" / " (iterated step)" after BIE's name in the log lines, nothing for UE and BE.
+const char* scheme_label(const dyn::Params& p) {
+  if (p.method != dyn::Method::bie) return "";
+  return p.bie_scheme == dyn::BieScheme::split ? " (split step)" : " (iterated step)";
+}
+
 }  // namespace
 
 dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
@@ -102,7 +108,6 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   dyn::parse_bie_solve(D.bie_solve, p.bie_solve);  // validated by the deck reader
   p.bie_block = D.bie_block;
   p.bie_iterations = D.bie_iterations;
-  p.bie_scheme = D.bie_scheme == "split" ? dyn::BieScheme::split : dyn::BieScheme::iterate;
   p.youngs_modulus = D.modulus();
   p.poisson = D.poisson;
   p.density = D.density;
@@ -113,6 +118,12 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
     case deck::Dynamics::Damping::none: p.alpha_d = p.beta_d = 0; break;
     case deck::Dynamics::Damping::explicit_values: p.alpha_d = D.alpha_d, p.beta_d = D.beta_d; break;
   }
+  // "auto": the split step where C != 0 (it keeps the undamped step at one J^-1 apply), eq. 4.6's
+  // iterations where C = 0 (the same step to rounding, cheaper reduced last iteration);
+  // docs/methods.md "The split step", perf/results/dyn_step_split
+  const bool damped = p.alpha_d != 0.0 || p.beta_d != 0.0;
+  p.bie_scheme = D.bie_scheme == "split" || (D.bie_scheme == "auto" && damped) ? dyn::BieScheme::split
+                                                                               : dyn::BieScheme::iterate;
   p.dt = D.dt;
   p.rate = D.rate;
   p.ramp_time = D.ramp_time;
@@ -139,9 +150,9 @@ int print_critical_step(const deck::Deck& d, bool quiet) {
     std::printf("%.6g\n", h);
     return 0;
   }
-  std::printf("nacre: %s: %zu bricks, method %s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
-              d.path.c_str(), s.specimen.size(), method_name(p.method), p.youngs_modulus, d.dynamics.ratio(),
-              p.alpha_d, p.beta_d);
+  std::printf("nacre: %s: %zu bricks, method %s%s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
+              d.path.c_str(), s.specimen.size(), method_name(p.method), scheme_label(p), p.youngs_modulus,
+              d.dynamics.ratio(), p.alpha_d, p.beta_d);
   std::printf("critical step: %.6g s (relative tolerance %g: bisection over %ld-step trials from rest under the "
               "deck's load)\n",
               h, critical_rtol, critical_trial_steps);
@@ -166,7 +177,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   dyn::Params p = dynamics_params(d, specimen.size());
   if (log)
     *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
-         << " interfaces, dynamics " << method_name(p.method) << " (E = " << p.youngs_modulus
+ << " interfaces, dynamics " << method_name(p.method) << scheme_label(p) << " (E = " << p.youngs_modulus
          << " N/mm^2, alpha_d = " << p.alpha_d << " 1/s, beta_d = " << p.beta_d << " s), "
          << Kokkos::DefaultExecutionSpace::name() << " with " << Kokkos::DefaultExecutionSpace().concurrency()
          << " threads\n";
@@ -232,7 +243,8 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   auto summary = [&] {
     std::ostringstream j;
     j << "{\n  \"deck\": \"" << d.path << "\",\n  \"solver\": \"dynamics\",\n  \"method\": \"" << method_name(p.method)
-      << "\",\n  \"status\": \"" << status << "\",\n  \"bricks\": " << specimen.size()
+      << "\",\n  \"bie_scheme\": " << (p.method == dyn::Method::bie ? (p.bie_scheme == dyn::BieScheme::split ? "\"split\"" : "\"iterate\"") : "null")
+      << ",\n  \"status\": \"" << status << "\",\n  \"bricks\": " << specimen.size()
       << ",\n  \"interfaces\": " << interfaces.size() << ",\n  \"element_types\": " << sim.element_types()
       << ",\n  \"device_bytes\": " << sim.bytes() << ",\n  \"youngs_modulus\": " << num(p.youngs_modulus)
       << ",\n  \"stiffness_ratio\": " << num(D.ratio()) << ",\n  \"alpha_d\": " << num(p.alpha_d)

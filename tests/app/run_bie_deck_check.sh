@@ -32,6 +32,8 @@ import h5py, numpy as np
 out, bw, bh, notch, height = sys.argv[1], *map(float, sys.argv[2:])
 s = json.load(open(f"{out}/summary.json"))
 assert s["status"] == "done" and s["method"] == "bie", s
+# bie_scheme = "auto" (the default) with the deck's Rayleigh damping takes the split step
+assert s["bie_scheme"] == "split", s
 dump = sorted(glob.glob(f"{out}/dump_*.h5"))[-1]
 with h5py.File(dump, "r") as d:
     pts = d["/interfaces/points"][:].reshape(-1, 2, 2)

@@ -42,7 +42,10 @@ struct Dynamics {
   std::string bie_solve = "shared_gemm";  ///< BIE J^-1 apply: row | reordered | batched | shared_gemm
   int bie_block = 4;               ///< BIE reordered matvec: rows per block (2, 4, 5, 10)
   int bie_iterations = 2;          ///< BIE: iterations with the constant J per step (eq. 4.6: 2)
-  std::string bie_scheme = "iterate";  ///< BIE: "iterate" (eq. 4.6) or "split" (docs/methods.md)
+  /// BIE: "iterate" (eq. 4.6), "split" (docs/methods.md) or "auto": split when damped (C != 0),
+  /// iterate otherwise (the same step to rounding there, and the reduced last iteration is cheaper);
+  /// the reader turns "auto" with bie_iterations into "iterate".
+  std::string bie_scheme = "auto";
   long csv_interval = 100;         ///< time-series row every this many steps
   long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
 

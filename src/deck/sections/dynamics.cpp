@@ -60,12 +60,15 @@ void read_dynamics(Section& top, Deck& d) {
     s.integer("bie_iterations", {}, ni, 1, 16, "1 to 16 (iterations with the constant Jacobian per step)");
     D.bie_iterations = static_cast<int>(ni);
   }
-  s.string("bie_scheme", D.bie_scheme, {"iterate", "split"},
-           "\"iterate\" (eq. 4.6: bie_iterations iterations with the constant Jacobian) or \"split\" (half kicks "
-           "around one implicit-midpoint solve of the bricks: docs/methods.md)");
-  if (D.bie_scheme == "split" && s.find("bie_iterations", {}) != nullptr)
-    s.fail("bie_iterations", "given with bie_scheme = \"split\", which solves each step with one J^-1 apply; expected "
-                             "no bie_iterations (or bie_scheme = \"iterate\")");
+  s.string("bie_scheme", D.bie_scheme, {"auto", "iterate", "split"},
+           "\"auto\", \"iterate\" (eq. 4.6: bie_iterations iterations with the constant Jacobian) or \"split\" (half "
+           "kicks around one implicit-midpoint solve of the bricks: docs/methods.md)");
+  if (s.find("bie_iterations", {}) != nullptr) {
+    if (D.bie_scheme == "split")
+      s.fail("bie_iterations", "given with bie_scheme = \"split\", which solves each step with one J^-1 apply; expected "
+                               "no bie_iterations (or bie_scheme = \"iterate\")");
+    D.bie_scheme = "iterate";  // "auto" with an iteration count: the iterated step was asked for
+  }
 
   const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
