@@ -38,7 +38,7 @@ one() {
       --out "$out/accuracy.csv" --kokkos-num-threads=2 ;;
   accuracy_damped)
     note accuracy_damped
-    run env $env $exe accuracy --damped --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 20 --levels 3 \
+    run env $env $exe accuracy --damped --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 40 --levels 3 \
       --out "$out/accuracy_damped.csv" --kokkos-num-threads=2 ;;
   fail)
     note fail
