@@ -200,19 +200,34 @@ void timing(const std::string& sizes, double ratio, long steps, std::ostream& ou
 }
 
 // ---------------------------------------------------------------- speed-up to the same time
-void speedup(long bricks, const std::string& ratios, long bie_steps, long crit_steps, double safety, std::ostream& out) {
+// --damped: Table 4.2's damping (the 10k-brick row of ratio r) on every method, BIE's split step
+// (bie_split) beside the iterated one, each method's step capped by its undamped critical step
+// (as nacre_perf_dyn_step); the simulated time is bie_steps steps of the larger BIE step.
+void speedup(long bricks, const std::string& ratios, long bie_steps, long crit_steps, double safety, bool damped,
+             std::ostream& out) {
   const auto st = specimen(bricks);
   out << "method,ratio,bricks,critical_step_s,step_used_s,steps,sim_time_s,wall_s,s_per_step,speedup_vs_ue,"
-         "speedup_vs_be,stable\n";
+         "speedup_vs_be,stable,alpha_d,beta_d\n";
+  const int nm = damped ? 4 : 3;
+  const dyn::Method ms[4] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie, dyn::Method::bie};
+  const char* names[4] = {"ue", "be", "bie", "bie_split"};
   for (double r : parse_list(ratios)) {
-    double h[3], wall[3], sps[3];
-    long n[3];
-    bool ok[3];
-    const dyn::Method ms[3] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie};
-    for (int k = 0; k < 3; ++k) h[k] = crit(params(ms[k], r), st, crit_steps, 0.02);
-    const double T = bie_steps * safety * h[2];
-    for (int k = 0; k < 3; ++k) {
-      auto p = params(ms[k], r);
+    double h[4], wall[4], sps[4];
+    long n[4];
+    bool ok[4];
+    auto params = [&](int k, bool with_damping) {
+      dyn::Params p = ::params(ms[k], r);
+      if (damped && with_damping) dyn::table_4_2_damping(10206, r, p.alpha_d, p.beta_d);
+      if (k == 3) p.bie_scheme = dyn::BieScheme::split;
+      return p;
+    };
+    for (int k = 0; k < nm; ++k) {
+      h[k] = crit(params(k, true), st, crit_steps, 0.02);
+      if (damped) h[k] = std::min(h[k], crit(params(k, false), st, crit_steps, 0.02));
+    }
+    const double T = bie_steps * safety * (damped ? std::max(h[2], h[3]) : h[2]);
+    for (int k = 0; k < nm; ++k) {
+      auto p = params(k, true);
       p.dt = safety * h[k];
       n[k] = std::lround(std::ceil(T / p.dt));
       p.dt = T / static_cast<double>(n[k]);
@@ -221,13 +236,15 @@ void speedup(long bricks, const std::string& ratios, long bie_steps, long crit_s
       ok[k] = sim.advance(Exec{}, n[k]);
       Exec().fence();
       wall[k] = seconds(t0), sps[k] = wall[k] / static_cast<double>(n[k]);
-      std::cerr << "speedup " << name(ms[k]) << " ratio " << r << ": " << n[k] << " steps, " << wall[k] << " s"
+      std::cerr << "speedup " << names[k] << " ratio " << r << ": " << n[k] << " steps, " << wall[k] << " s"
                 << (ok[k] ? "" : " UNSTABLE") << "\n";
     }
-    for (int k = 0; k < 3; ++k)
-      out << name(ms[k]) << "," << r << "," << st.s.size() << "," << h[k] << "," << T / n[k] << "," << n[k] << "," << T
+    for (int k = 0; k < nm; ++k) {
+      const auto p = params(k, true);
+      out << names[k] << "," << r << "," << st.s.size() << "," << h[k] << "," << T / n[k] << "," << n[k] << "," << T
           << "," << wall[k] << "," << sps[k] << "," << wall[0] / wall[k] << "," << wall[1] / wall[k] << "," << ok[k]
-          << "\n";
+          << "," << p.alpha_d << "," << p.beta_d << "\n";
+    }
     out.flush();
   }
 }
@@ -392,6 +409,8 @@ int main(int argc, char** argv) {
   auto* s = app.add_subcommand("speedup", "wall time to the same simulated time at each method's critical step");
   s->add_option("--bricks", bricks), s->add_option("--ratios", ratios), s->add_option("--bie-steps", bie_steps),
       s->add_option("--steps", steps), s->add_option("--safety", safety);
+  bool damped_speedup = false;
+  s->add_flag("--damped", damped_speedup, "Table 4.2's Rayleigh damping on every method; BIE's split step beside");
   auto* a = app.add_subcommand("accuracy", "strain-energy history error vs step and wall time");
   a->add_option("--bricks", bricks), a->add_option("--ratio", ratio), a->add_option("--steps", steps),
       a->add_option("--horizon", horizon, "simulated time in BIE critical steps"), a->add_option("--levels", levels);
@@ -410,7 +429,7 @@ int main(int argc, char** argv) {
   out.precision(10);
   if (*c) critical(bricks, ratios, steps, rtol, out);
   if (*t) timing(sizes, ratio, steps, out);
-  if (*s) speedup(bricks, ratios, bie_steps, steps, safety, out);
+  if (*s) speedup(bricks, ratios, bie_steps, steps, safety, damped_speedup, out);
   if (*a) accuracy(bricks, ratio, steps, horizon, levels, damped, out);
   if (*f) fail(bricks, ratios, steps, horizon, out);
   if (*m) memory(sizes, ratio, out);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Charts and headline numbers of the issue-8 experiments (perf/bie/run_bie_bench.sh).
 
-usage: plot_bie.py OUTDIR EXPERIMENT   (critical|timing|speedup|accuracy|accuracy_damped|fail|memory)
+usage: plot_bie.py OUTDIR EXPERIMENT   (critical|timing|speedup|speedup_damped|accuracy|accuracy_damped|fail|memory)
 Reads OUTDIR/<experiment>*.csv, writes OUTDIR/<experiment>.png and OUTDIR/<experiment>.json.
 """
 import csv
@@ -88,25 +88,31 @@ def timing(out):
     save(out, "timing", fig, data)
 
 
-def speedup(out):
-    r = rows(os.path.join(out, "speedup.csv"))
+def speedup(out, name="speedup"):
+    r = rows(os.path.join(out, name + ".csv"))
     fig, ax = plt.subplots(figsize=(6, 4))
     data = {}
-    for m in ("be", "bie"):
+    damped = float(r[0].get("beta_d", 0) or 0) > 0
+    for m in [m for m in ("be", "bie", "bie_split") if any(x["method"] == m for x in r)]:
         rs = [x for x in r if x["method"] == m]
         x = [float(a["ratio"]) for a in rs]; y = [float(a["speedup_vs_ue"]) for a in rs]
         ax.loglog(x, y, "o-", color=COL[m], label=m.upper() + " vs UE")
         data[m + "_vs_ue"] = dict(zip([str(int(v)) for v in x], y))
-    rs = [x for x in r if x["method"] == "bie"]
-    data["bie_vs_be"] = {str(int(float(a["ratio"]))): float(a["speedup_vs_be"]) for a in rs}
+        if m != "be":
+            data[m + "_vs_be"] = {str(int(float(a["ratio"]))): float(a["speedup_vs_be"]) for a in rs}
     data["wall_s"] = {"%s_%d" % (a["method"], int(float(a["ratio"]))): float(a["wall_s"]) for a in r}
     data["steps"] = {"%s_%d" % (a["method"], int(float(a["ratio"]))): int(a["steps"]) for a in r}
     data["stable"] = all(a["stable"] == "1" for a in r)
     data["bricks"] = int(r[0]["bricks"])
     ax.axhline(100, color="gray", ls=":"); ax.axhline(15, color="gray", ls=":")
     ax.set_xlabel("stiffness ratio"); ax.set_ylabel("speed-up vs UE (same simulated time)")
-    ax.set_title("Total speed-up (Fig. 4.9), %d bricks" % data["bricks"]); ax.legend(); ax.grid(True, which="both", alpha=.3)
-    save(out, "speedup", fig, data)
+    ax.set_title("Total speed-up (Fig. 4.9), %d bricks%s" % (data["bricks"], ", Table 4.2 damping" if damped else ""))
+    ax.legend(); ax.grid(True, which="both", alpha=.3)
+    save(out, name, fig, data)
+
+
+def speedup_damped(out):
+    speedup(out, "speedup_damped")
 
 
 def pareto(points):

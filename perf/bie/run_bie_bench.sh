@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Chapter 4 experiments (issue 8), one command each:
-#   perf/bie/run_bie_bench.sh critical|timing|speedup|accuracy|accuracy_damped|fail|memory|all [OUTDIR]
+#   perf/bie/run_bie_bench.sh critical|timing|speedup|speedup_damped|accuracy|accuracy_damped|fail|memory|all [OUTDIR]
 # Builds nacre_perf_bie, runs the experiment into OUTDIR (default perf/results/bie), writes the
 # CSV, the chart (PNG) and a JSON of the headline numbers (perf/bie/plot_bie.py), and the load
 # average during the run (machine.txt). Sizes are modest on purpose (a shared 2-core machine);
@@ -32,6 +32,10 @@ one() {
     note speedup
     run env $env $exe speedup --bricks "${BIE_BRICKS:-1000}" --ratios 1,100,500 --bie-steps 100 --steps 1000 \
       --out "$out/speedup.csv" --kokkos-num-threads=2 ;;
+  speedup_damped)
+    note speedup_damped
+    run env $env $exe speedup --damped --bricks "${BIE_BRICKS:-1000}" --ratios 500 --bie-steps 100 --steps 1000 \
+      --out "$out/speedup_damped.csv" --kokkos-num-threads=2 ;;
   accuracy)
     note accuracy
     run env $env $exe accuracy --bricks "${BIE_BRICKS:-120}" --ratio 500 --steps 1000 --horizon 20 --levels 3 \
@@ -53,7 +57,7 @@ one() {
 }
 
 if [ "$what" = all ]; then
-  for w in critical memory accuracy accuracy_damped fail speedup timing; do one $w; done
+  for w in critical memory accuracy accuracy_damped fail speedup speedup_damped timing; do one $w; done
 else
   one "$what"
 fi
