@@ -1,4 +1,5 @@
 // The [dynamics] section: defaults, every key read, and every error naming file, line and key.
+#include <nacre/app/run_dynamics.hpp>
 #include <nacre/deck/deck.hpp>
 
 #include <catch2/catch_test_macros.hpp>
@@ -157,4 +158,22 @@ TEST_CASE("Monte Carlo keys in a dynamic deck are errors, not silently ignored",
   CHECK_THAT(error_of(base + "[output]\nDumpInter = 5\n"), StartsWith("dyn.toml:19: output.DumpInter: counts Monte Carlo load steps"));
   // the Monte Carlo check initial_step <= final_displacement does not apply to a dynamic deck
   CHECK(error_of(base).empty());
+}
+
+TEST_CASE("deck dynamics: bie_scheme = \"auto\" takes the split step where C != 0, eq. 4.6's iterations otherwise",
+          "[deck][dynamics]") {
+  auto scheme = [](const std::string& keys) {
+    const auto d = parse_deck_string(base + "method = \"bie\"\n" + keys, "dyn.toml");
+    return nacre::app::dynamics_params(d, 10000).bie_scheme;
+  };
+  using nacre::dyn::BieScheme;
+  CHECK(scheme("damping = \"none\"\n") == BieScheme::iterate);
+  CHECK(scheme("damping = \"table\"\n") == BieScheme::split);
+  CHECK(scheme("alpha_d = 1e5\nbeta_d = 0.0\n") == BieScheme::split);
+  CHECK(scheme("alpha_d = 0.0\nbeta_d = 1e-7\n") == BieScheme::split);
+  CHECK(scheme("alpha_d = 0.0\nbeta_d = 0.0\n") == BieScheme::iterate);
+  // an iteration count asks for the iterated step; an explicit scheme is kept as given
+  CHECK(scheme("damping = \"table\"\nbie_iterations = 2\n") == BieScheme::iterate);
+  CHECK(scheme("damping = \"table\"\nbie_scheme = \"iterate\"\n") == BieScheme::iterate);
+  CHECK(scheme("damping = \"none\"\nbie_scheme = \"split\"\n") == BieScheme::split);
 }

@@ -8,7 +8,7 @@
 // bricks slam into each other. Also the deck's critical step from rest (intact).
 //
 //   nacre_perf_bie_penalty --deck inputs/dynamic_bie.toml --dts 3e-8,4.5e-8,6e-8 --out FILE.csv
-#include "../../src/app/run_dynamics.hpp"
+#include <nacre/app/run_dynamics.hpp>
 
 #include <nacre/deck/deck.hpp>
 #include <nacre/dyn/simulation.hpp>

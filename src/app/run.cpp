@@ -13,7 +13,7 @@
 #include <nacre/mc/solver.hpp>
 
 #include "progress.hpp"
-#include "run_dynamics.hpp"
+#include <nacre/app/run_dynamics.hpp>
 
 #include <CLI/CLI.hpp>
 

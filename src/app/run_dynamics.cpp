@@ -1,7 +1,7 @@
 // The dynamic-run driver: deck -> dyn::Params, specimen and interfaces, the dyn::Simulation
 // advanced in chunks (one chunk per time-series row), progress with ETA, dumps + checkpoints,
 // restart, and the stop on instability (exit 3, last good outputs kept, no NaN written).
-#include "run_dynamics.hpp"
+#include <nacre/app/run_dynamics.hpp>
 
 #include "dyn_output.hpp"
 #include "progress.hpp"
@@ -177,7 +177,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   dyn::Params p = dynamics_params(d, specimen.size());
   if (log)
     *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
- << " interfaces, dynamics " << method_name(p.method) << scheme_label(p) << " (E = " << p.youngs_modulus
+         << " interfaces, dynamics " << method_name(p.method) << scheme_label(p) << " (E = " << p.youngs_modulus
          << " N/mm^2, alpha_d = " << p.alpha_d << " 1/s, beta_d = " << p.beta_d << " s), "
          << Kokkos::DefaultExecutionSpace::name() << " with " << Kokkos::DefaultExecutionSpace().concurrency()
          << " threads\n";

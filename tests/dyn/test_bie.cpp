@@ -484,6 +484,57 @@ TEST_CASE("bie: with Table 4.2's stiffness damping the split step keeps the unda
   CHECK(std::abs(e.balance_residual) < 1e-2);
 }
 
+TEST_CASE("bie: with Table 4.2's damping the split step converges at second order to BE's solution",
+          "[dyn][bie][split]") {
+  // An independent reference for the damped split step: BE (explicit, C through (M + h/2 C)^-1)
+  // at a quarter of its undamped critical step solves the same equations; the split's strain-energy
+  // history converges to it at second order from half its own critical step down, so a wrong
+  // alpha or beta term (which would converge to another solution) fails here.
+  const auto st = make(wall(3, 4));
+  auto p = loaded(500, dyn::Method::bie);
+  dyn::table_4_2_damping(10206, 500, p.alpha_d, p.beta_d);
+  p.bie_scheme = dyn::BieScheme::split;
+  p.dt = 10 * estimate(loaded(500, dyn::Method::be), st);
+  const double H = 0.5 * dyn::critical_step(p, st.s, st.f, mortar(), 1000, 0.05);
+  const double T = 64 * H;
+  p.ramp_time = 0.5 * T;
+  auto history = [&](dyn::Params q, double h) {
+    const long n = 8 * std::lround(std::ceil(T / h / 8));
+    q.dt = T / static_cast<double>(n);
+    dyn::Simulation sim(q, st.s, st.f, mortar());
+    std::vector<double> e;
+    for (int k = 1; k <= 8; ++k) {
+      REQUIRE(sim.advance(Exec{}, n / 8));
+      e.push_back(sim.energies().strain);
+    }
+    return e;
+  };
+  auto pb = p;
+  pb.method = dyn::Method::be;
+  auto pb0 = pb;
+  pb0.alpha_d = pb0.beta_d = 0;
+  pb0.dt = estimate(pb0, st);
+  const double hbe = dyn::critical_step(pb0, st.s, st.f, mortar(), 1000, 0.05);
+  const auto ref = history(pb, 0.25 * hbe);
+  double scale = 0;
+  for (double x : ref) scale = std::max(scale, std::abs(x));
+  std::vector<double> hs{H, H / 2, H / 4}, err;
+  for (double h : hs) {
+    const auto e = history(p, h);
+    double m = 0;
+    for (std::size_t k = 0; k < e.size(); ++k) m = std::max(m, std::abs(e[k] - ref[k]));
+    err.push_back(m / scale);
+  }
+  const double order = std::log(err[0] / err[2]) / std::log(4.0);
+  INFO("H " << H << " (BE critical " << hbe << "), errors " << err[0] << " " << err[1] << " " << err[2] << ", order "
+            << order);
+  CHECK(err[0] < 1e-2);
+  CHECK(err[2] < err[1]);
+  CHECK(err[1] < err[0]);
+  CHECK(order > 1.8);
+  CHECK(order < 2.2);
+}
+
 TEST_CASE("bie: energy balance closes with damping; save_state / restore_state bit for bit", "[dyn][bie][restart]") {
   const auto st = make(wall(3, 4));
   auto p = loaded(50, dyn::Method::bie);
