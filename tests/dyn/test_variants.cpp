@@ -131,6 +131,20 @@ TEST_CASE("dyn: interfaces in element order give the geometry-order results to r
   }
 }
 
+namespace {
+/// The energies (and reaction) of two runs' "energies" arrays within 1e-8 of their scale: the
+/// energies against the largest energy term, the reaction against itself.
+void check_energies_close(const dyn::StateArrays& a, const dyn::StateArrays& c) {
+  const auto& ea = a.at("energies");
+  const auto& ec = c.at("energies");
+  for (std::size_t k = 0; k < ea.size(); ++k) {
+    INFO("energy/reaction " << k << ": " << ea[k] << " vs " << ec[k]);
+    const double scale = k < 5 ? std::max(std::abs(ea[0]), std::abs(ea[4])) : std::abs(ea[k]);  // energies; reaction
+    CHECK(std::abs(ea[k] - ec[k]) <= 1e-8 * scale);
+  }
+}
+}  // namespace
+
 TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_gemm", "[dyn][bie][variants]") {
   const auto st = make(wall(6, 6, 2.5));
   for (bool share : {true, false})
@@ -158,13 +172,7 @@ TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_g
       int r2 = 0;
       const auto c = run(p, st, dyn::ElementApply::tiled, 400, r2);
       CHECK(r2 == r0);
-      const auto& ea = a.at("energies");
-      const auto& ec = c.at("energies");
-      for (std::size_t k = 0; k < ea.size(); ++k) {
-        INFO("energy/reaction " << k << ": " << ea[k] << " vs " << ec[k]);
-        const double scale = k < 5 ? std::max(std::abs(ea[0]), std::abs(ea[4])) : std::abs(ea[k]);  // energies; reaction
-        CHECK(std::abs(ea[k] - ec[k]) <= 1e-8 * scale);
-      }
+      check_energies_close(a, c);
     }
   // the other fused kernels: more iterations (BieIterTileTag before the fused last one), the
   // force re-evaluated at x_{n+1} (BieIterTileTag + BieFinalTileTag, no fused end) and the split
@@ -193,13 +201,7 @@ TEST_CASE("bie: the fused tiled step gives the same bits as the unfused shared_g
     int r2 = 0;
     const auto c = run(p, st, dyn::ElementApply::tiled, 400, r2);
     CHECK(r2 == r0);
-    const auto& ea = a.at("energies");
-    const auto& ec = c.at("energies");
-    for (std::size_t k = 0; k < ea.size(); ++k) {
-      INFO("energy/reaction " << k << ": " << ea[k] << " vs " << ec[k]);
-      const double scale = k < 5 ? std::max(std::abs(ea[0]), std::abs(ea[4])) : std::abs(ea[k]);
-      CHECK(std::abs(ea[k] - ec[k]) <= 1e-8 * scale);
-    }
+    check_energies_close(a, c);
   }
   // the fused path keeps no residual block: fewer bytes
   auto p = cracking(dyn::Method::bie, false, false);

@@ -277,6 +277,32 @@ struct BieIntegrator {
     for (int j = 0; j < nd; ++j) ex.u(e, j) += R(s, j), ex.v(e, j) += R(s, nd + j);
   }
 
+  /// The end-of-step books of element e (type t) from its u, v and pn, vn: work of Theta + F_p
+  /// over dp, damping dp . C (v + vn)/2 (implicit midpoint), the m-weighted |G_v|^2 with
+  /// G_v = h/2 (a_n + ax) - dv (ax = a(x_{n+1}); nullptr: 0, the split step iterates nothing) and
+  /// |dv|^2, dv = v - vn. The same sums in the same order as tile_books.
+  KOKKOS_INLINE_FUNCTION void elem_books(int e, int t, const double* ax, double& work, double& pd, double& g2,
+                                         double& d2) const {
+    const int nd = ex.nd;
+    const double h = ex.h;
+    double dp[kMaxDof], vm[kMaxDof];
+    work = pd = g2 = d2 = 0;
+    for (int j = 0; j < nd; ++j) {
+      dp[j] = ex.u(e, j) - pn(e, j);
+      vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
+      work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * dp[j];
+    }
+    for (int i = 0; i < nd; ++i) {
+      double kv = 0;
+      if (ex.beta != 0.0)  // else beta K vm adds nothing
+        for (int j = 0; j < nd; ++j) kv += ex.K(t, i, j) * vm[j];
+      const double m = ex.mass(t, i), dv = ex.v(e, i) - vn(e, i);
+      pd += dp[i] * (ex.alpha * m * vm[i] + (ex.beta != 0.0 ? ex.beta * kv : 0.0));
+      const double gv = ax ? 0.5 * h * (ex.a(e, i) + ax[i]) - dv : 0.0;
+      g2 += m * gv * gv, d2 += m * dv * dv;
+    }
+  }
+
   /// End of step: a_{n+1} = a(x_{n+1}); work of F_p + Theta over dp, damping dp . C v_mid
   /// (implicit midpoint); acc(e, kBieG2 / kBieD2) = m-weighted |G_v|^2 and |dv|^2 of the final state.
   /// Driven elements: reaction and work as in the explicit methods.
@@ -292,26 +318,10 @@ struct BieIntegrator {
       for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
       return;
     }
-    const double h = ex.h;
-    double work = 0, pd = 0, g2 = 0, d2 = 0, dp[kMaxDof], vm[kMaxDof];
-    for (int j = 0; j < nd; ++j) {
-      dp[j] = ex.u(e, j) - pn(e, j);
-      vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
-      work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * dp[j];
-    }
-    for (int i = 0; i < nd; ++i) {
-      double kv = 0;
-      for (int j = 0; j < nd; ++j) kv += ex.K(t, i, j) * vm[j];
-      const double m = ex.mass(t, i);
-      pd += dp[i] * (ex.alpha * m * vm[i] + ex.beta * kv);
-      const double dv = ex.v(e, i) - vn(e, i);
-      const double gv = 0.5 * h * (ex.a(e, i) + ax[i]) - dv;
-      g2 += m * gv * gv, d2 += m * dv * dv;
-      ex.a(e, i) = ax[i];
-    }
-    ex.acc(e, kWork) += work;
-    ex.acc(e, kDamp) += pd;
-    ex.acc(e, kBieG2) = g2, ex.acc(e, kBieD2) = d2;
+    double work, pd, g2, d2;
+    elem_books(e, t, ax, work, pd, g2, d2);
+    for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
+    store_books(e, work, pd, g2, d2);
   }
 
   // ---- the split step (BieScheme::split, docs/methods.md "The split step"). The state between
@@ -366,27 +376,28 @@ struct BieIntegrator {
     double f[kMaxDof], ax[kMaxDof];
     explicit_force(e, t, f);
     if (book) {
-      double work = 0, pd = 0, d2 = 0, dp[kMaxDof], vm[kMaxDof];
-      for (int j = 0; j < nd; ++j) {
-        dp[j] = ex.u(e, j) - pn(e, j);
-        vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
-        work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * dp[j];
-      }
-      for (int i = 0; i < nd; ++i) {
-        double kv = 0;
-        if (ex.beta != 0.0)
-          for (int j = 0; j < nd; ++j) kv += ex.K(t, i, j) * vm[j];
-        const double m = ex.mass(t, i), dv = ex.v(e, i) - vn(e, i);
-        pd += dp[i] * (ex.alpha * m * vm[i] + (ex.beta != 0.0 ? ex.beta * kv : 0.0));
-        d2 += m * dv * dv;
-      }
-      ex.acc(e, kWork) += work;
-      ex.acc(e, kDamp) += pd;
-      ex.acc(e, kBieG2) = 0.0, ex.acc(e, kBieD2) = d2;  // no iteration: nothing left unconverged
+      double work, pd, g2, d2;
+      elem_books(e, t, nullptr, work, pd, g2, d2);
+      store_books(e, work, pd, g2, d2);  // g2 = 0: no iteration, nothing left unconverged
     }
     for (int j = 0; j < nd; ++j) ex.v(e, j) += 0.5 * h * minv(t, j) * f[j];
     accel_of(e, t, f, ax);
     for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
+  }
+
+  /// End-of-step work item w beyond the tiles: a driven element, booked as the explicit methods
+  /// (FinalTag when book). True when w was such an item (nothing else to do).
+  KOKKOS_INLINE_FUNCTION bool driven_final(int w) const {
+    if (w < ex.n_tiles) return false;
+    if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+    return true;
+  }
+
+  /// The end-of-step books of element e: work and damping added, the residual norms set.
+  KOKKOS_INLINE_FUNCTION void store_books(int e, double work, double pd, double g2, double d2) const {
+    ex.acc(e, kWork) += work;
+    ex.acc(e, kDamp) += pd;
+    ex.acc(e, kBieG2) = g2, ex.acc(e, kBieD2) = d2;
   }
 
   // ---- fused tiled path. Every per-element sum is the one of the unfused kernels in the same
@@ -579,10 +590,7 @@ struct BieIntegrator {
 
   /// End of step (BieFinalTag) per tile; driven elements as the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieFinalTileTag, int w) const {
-    if (w >= ex.n_tiles) {
-      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
-      return;
-    }
+    if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
     tile_accel(t, k0, nb, u, v, ax);
@@ -605,9 +613,7 @@ struct BieIntegrator {
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
-      ex.acc(e, kWork) += work[b];
-      ex.acc(e, kDamp) += pd[b];
-      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+      store_books(e, work[b], pd[b], g2[b], d2[b]);
     }
   }
 
@@ -617,10 +623,7 @@ struct BieIntegrator {
   /// one load of u, v, p_n, v_n, a_n and one store of u, v, a per element instead of two of each.
   /// The same operations on the same values in the same order: the same bits.
   KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalTileTag, int w) const {
-    if (w >= ex.n_tiles) {
-      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
-      return;
-    }
+    if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     const int n = 2 * nd;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
@@ -657,9 +660,7 @@ struct BieIntegrator {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.u(e, j) = u[j][b], ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
       if (!book) continue;
-      ex.acc(e, kWork) += work[b];
-      ex.acc(e, kDamp) += pd[b];
-      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+      store_books(e, work[b], pd[b], g2[b], d2[b]);
     }
   }
 
@@ -672,10 +673,7 @@ struct BieIntegrator {
   /// G_p ~ 0 times J^-1: equal to rounding (tests/dyn), at one K apply instead of three K applies
   /// and the J^-1 apply, and no store of u.
   KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalLinearTileTag, int w) const {
-    if (w >= ex.n_tiles) {
-      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
-      return;
-    }
+    if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     const double h = ex.h;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
@@ -696,9 +694,7 @@ struct BieIntegrator {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
       if (!book) continue;
-      ex.acc(e, kWork) += work[b];
-      ex.acc(e, kDamp) += pd[b];
-      ex.acc(e, kBieG2) = g2[b], ex.acc(e, kBieD2) = d2[b];
+      store_books(e, work[b], pd[b], g2[b], d2[b]);
     }
   }
 
@@ -746,10 +742,7 @@ struct BieIntegrator {
 
   /// The split step's end (BieSplitFinalTag) per tile; driven elements as the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTileTag, int w) const {
-    if (w >= ex.n_tiles) {
-      if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
-      return;
-    }
+    if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     const double h = ex.h;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
@@ -773,9 +766,7 @@ struct BieIntegrator {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
       if (!book) continue;
-      ex.acc(e, kWork) += work[b];
-      ex.acc(e, kDamp) += pd[b];
-      ex.acc(e, kBieG2) = 0.0, ex.acc(e, kBieD2) = d2[b];
+      store_books(e, work[b], pd[b], 0.0, d2[b]);
     }
   }
 };
