@@ -36,7 +36,7 @@ if [ "$what" = bench ] || [ "$what" = all ]; then
     have nacre_perf_dyn_step$m || continue
     for damp in none table42_mass table42; do
       say "dyn_step$m: UE, BE, BIE, damping $damp ($sizes bricks)"
-      timeout 200 "$R" nacre_perf_dyn_step$m --bricks "$sizes" --methods ue,be,bie --steps 50 --blocks 3 \
+      timeout 200 "$R" nacre_perf_dyn_step$m --bricks "$sizes" --methods ue,be,bie,bie_split --steps 50 --blocks 3 \
         --damping $damp --csv "$O/dyn_step${m}_$damp.csv" >> "$O/bench.log" 2>&1 || say "  exit $?"
     done
   done
