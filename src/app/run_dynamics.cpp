@@ -119,8 +119,8 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
     case deck::Dynamics::Damping::explicit_values: p.alpha_d = D.alpha_d, p.beta_d = D.beta_d; break;
   }
   // "auto": the split step where C != 0 (it keeps the undamped step at one J^-1 apply), eq. 4.6's
-  // iterations where C = 0 (the same step to rounding, cheaper reduced last iteration);
-  // docs/methods.md "The split step", perf/results/dyn_step_split
+  // iterations where C = 0 (the same step to rounding at the same cost: the dissertation's step kept);
+  // docs/methods.md "The split step", perf/results/dyn_step_split_phi
   const bool damped = p.alpha_d != 0.0 || p.beta_d != 0.0;
   p.bie_scheme = D.bie_scheme == "split" || (D.bie_scheme == "auto" && damped) ? dyn::BieScheme::split
                                                                                : dyn::BieScheme::iterate;

@@ -43,7 +43,7 @@ struct Dynamics {
   int bie_block = 4;               ///< BIE reordered matvec: rows per block (2, 4, 5, 10)
   int bie_iterations = 2;          ///< BIE: iterations with the constant J per step (eq. 4.6: 2)
   /// BIE: "iterate" (eq. 4.6), "split" (docs/methods.md) or "auto": split when damped (C != 0),
-  /// iterate otherwise (the same step to rounding there, and the reduced last iteration is cheaper);
+  /// iterate otherwise (the same step to rounding there, at the same cost: the dissertation's step kept);
   /// the reader turns "auto" with bie_iterations into "iterate".
   std::string bie_scheme = "auto";
   long csv_interval = 100;         ///< time-series row every this many steps

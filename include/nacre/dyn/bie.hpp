@@ -114,6 +114,7 @@ struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of th
 struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
 // the split step (BieScheme::split): start = half kick + the linear midpoint's residual, one J^-1
 // apply, the interface force at p_{n+1}, final = books + half kick + a_{n+1}
+struct BieSplitInitTag {};  ///< start-up: a = phi = M^-1 F of the initial state
 struct BieSplitStartTag {};
 struct BieSplitFinalTag {};
 struct BieSplitStartTileTag {};
@@ -324,18 +325,27 @@ struct BieIntegrator {
     store_books(e, work, pd, g2, d2);
   }
 
-  // ---- the split step (BieScheme::split, docs/methods.md "The split step"). The state between
-  // steps is (p, v, a) as for the iterated step; F = interface force + Theta + F_p (explicit).
-  //   start: phi = M^-1 F_n = a_n + M^-1 K (p_n + beta v_n) + alpha v_n (recovered from a_n, so
-  //          the step needs no interface force of p_n: restart and roll-back keep working),
-  //          v+ = v_n + h/2 phi (half kick), and the linear midpoint from (p_n, v+): at x^0 =
+  // ---- the split step (BieScheme::split, docs/methods.md "The split step"). F = interface force
+  // + Theta + F_p (explicit). Between split steps the state is (p, v, phi) with phi = M^-1 F held
+  // in a (not the acceleration: the step needs only phi, and storing it saves the K applies that
+  // would recover it; restart and roll-back copy a as they do for every method).
+  //   start: v+ = v_n + h/2 phi_n (half kick), and the linear midpoint from (p_n, v+): at x^0 =
   //          (p_n, v+) its residual is G = (h v+ + h^2/2 a_L, h a_L), a_L = -M^-1 K (p_n + beta
   //          v+) - alpha v+, and J of eq. 4.7 is its exact Jacobian: one apply solves it
   //          (p_{n+1}, v-). pn, vn keep p_n and v+.
   //   then the interface force at p_{n+1};
   //   final: books (work of Theta + F_p over dp; damping dp . C (v+ + v-)/2, the midpoint's exact
-  //          dissipation), v_{n+1} = v- + h/2 M^-1 F_{n+1} (half kick), a_{n+1} = a(x_{n+1}).
+  //          dissipation), phi_{n+1} = M^-1 F_{n+1}, v_{n+1} = v- + h/2 phi_{n+1} (half kick).
+  // One K apply per step (two with beta_d: the damping book), as the iterated step's reduced form.
   // The per-element and tiled kernels do the same operations in the same order (the same bits).
+
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitInitTag, int e) const {
+    if (ex.drive(e) != 0) return;
+    const int t = ex.type(e);
+    double f[kMaxDof];
+    explicit_force(e, t, f);
+    for (int j = 0; j < ex.nd; ++j) ex.a(e, j) = minv(t, j) * f[j];
+  }
 
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTag, int e) const {
     if (ex.drive(e) != 0) {
@@ -345,18 +355,13 @@ struct BieIntegrator {
     const int t = ex.type(e), s = slot_of_elem(e), nd = ex.nd;
     const double h = ex.h;
     double p[kMaxDof], v[kMaxDof], w[kMaxDof], kw[kMaxDof];
-    for (int j = 0; j < nd; ++j) p[j] = ex.u(e, j), v[j] = ex.v(e, j), w[j] = p[j] + ex.beta * v[j];
+    for (int j = 0; j < nd; ++j) {
+      p[j] = ex.u(e, j), v[j] = ex.v(e, j) + 0.5 * h * ex.a(e, j);  // v+ = v_n + h/2 phi_n (a holds phi)
+      w[j] = p[j] + ex.beta * v[j];
+    }
     for (int i = 0; i < nd; ++i) {
       kw[i] = 0;
       for (int j = 0; j < nd; ++j) kw[i] += ex.K(t, i, j) * w[j];
-    }
-    for (int i = 0; i < nd; ++i) v[i] += 0.5 * h * (ex.a(e, i) + minv(t, i) * kw[i] + ex.alpha * v[i]);
-    if (ex.beta != 0.0) {  // else K (p_n + beta v+) = K p_n: kw
-      for (int j = 0; j < nd; ++j) w[j] = p[j] + ex.beta * v[j];
-      for (int i = 0; i < nd; ++i) {
-        kw[i] = 0;
-        for (int j = 0; j < nd; ++j) kw[i] += ex.K(t, i, j) * w[j];
-      }
     }
     for (int i = 0; i < nd; ++i) {
       const double al = -minv(t, i) * kw[i] - ex.alpha * v[i];
@@ -373,16 +378,18 @@ struct BieIntegrator {
     }
     const int t = ex.type(e), nd = ex.nd;
     const double h = ex.h;
-    double f[kMaxDof], ax[kMaxDof];
+    double f[kMaxDof];
     explicit_force(e, t, f);
     if (book) {
       double work, pd, g2, d2;
       elem_books(e, t, nullptr, work, pd, g2, d2);
       store_books(e, work, pd, g2, d2);  // g2 = 0: no iteration, nothing left unconverged
     }
-    for (int j = 0; j < nd; ++j) ex.v(e, j) += 0.5 * h * minv(t, j) * f[j];
-    accel_of(e, t, f, ax);
-    for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
+    for (int j = 0; j < nd; ++j) {
+      const double phi = minv(t, j) * f[j];
+      ex.v(e, j) += 0.5 * h * phi;
+      ex.a(e, j) = phi;
+    }
   }
 
   /// End-of-step work item w beyond the tiles: a driven element, booked as the explicit methods
@@ -707,24 +714,16 @@ struct BieIntegrator {
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     const double h = ex.h;
     double p[kMaxDof][kTile], v[kMaxDof][kTile], wv[kMaxDof][kTile], kw[kMaxDof][kTile], g[kMaxBie][kTile];
-    for (int b = 0; b < kTile; ++b) {  // a_n parked in g's velocity rows
+    for (int b = 0; b < kTile; ++b) {
       const bool live = b < nb;
       const int e = ex.tile_elem(k0 + (live ? b : 0));
       for (int j = 0; j < nd; ++j) {
-        p[j][b] = live ? ex.u(e, j) : 0.0, v[j][b] = live ? ex.v(e, j) : 0.0, g[nd + j][b] = live ? ex.a(e, j) : 0.0;
+        p[j][b] = live ? ex.u(e, j) : 0.0;
+        v[j][b] = live ? ex.v(e, j) + 0.5 * h * ex.a(e, j) : 0.0;  // v+ = v_n + h/2 phi_n (a holds phi)
         wv[j][b] = p[j][b] + ex.beta * v[j][b];
       }
     }
     tile_K(t, wv, kw);
-    for (int i = 0; i < nd; ++i) {
-      const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) v[i][b] += 0.5 * h * (g[nd + i][b] + mi * kw[i][b] + ex.alpha * v[i][b]);
-    }
-    if (ex.beta != 0.0) {
-      for (int j = 0; j < nd; ++j)
-        for (int b = 0; b < kTile; ++b) wv[j][b] = p[j][b] + ex.beta * v[j][b];
-      tile_K(t, wv, kw);
-    }
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
       for (int b = 0; b < kTile; ++b) {
@@ -759,9 +758,11 @@ struct BieIntegrator {
     }
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) v[i][b] += 0.5 * h * mi * f[i][b];
+      for (int b = 0; b < kTile; ++b) {
+        ax[i][b] = mi * f[i][b];  // phi_{n+1}, what a holds between split steps
+        v[i][b] += 0.5 * h * ax[i][b];
+      }
     }
-    tile_acc(t, f, u, v, ax);
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
@@ -982,15 +983,20 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
   Kokkos::parallel_for("nacre::dyn::bie_final", Kokkos::RangePolicy<Exec, BieFinalTag>(space, 0, n_elem), it);
 }
 
-/// \brief Free elements' accelerations a(x) of the current state (start-up: a_0 consistent with
-/// the initial loads); needs the interface force of the current state in op.out first.
+/// \brief Free elements' a of the current state (start-up): the acceleration a(x) for the
+/// iterated step, phi = M^-1 F for the split step (what each carries between steps); computes the
+/// interface force of the current state first.
 template <class ExecutionSpace>
 void bie_accelerations(const ExecutionSpace& space, BieIntegrator<MemOf<ExecutionSpace>> it,
-                       const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface) {
+                       const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface, bool split = false) {
   interface_forces(space, op, n_iface);
   it.book = false;
-  Kokkos::parallel_for("nacre::dyn::bie_accelerations", Kokkos::RangePolicy<ExecutionSpace, BieFinalTag>(space, 0, n_elem),
-                       it);
+  if (split)
+    Kokkos::parallel_for("nacre::dyn::bie_split_init", Kokkos::RangePolicy<ExecutionSpace, BieSplitInitTag>(space, 0, n_elem),
+                         it);
+  else
+    Kokkos::parallel_for("nacre::dyn::bie_accelerations",
+                         Kokkos::RangePolicy<ExecutionSpace, BieFinalTag>(space, 0, n_elem), it);
 }
 
 /// \brief Relative residual of the last step (see Simulation::bie_residual), from the free
