@@ -34,7 +34,7 @@ one() {
       --out "$out/speedup.csv" --kokkos-num-threads=2 ;;
   speedup_damped)
     note speedup_damped
-    run env $env $exe speedup --damped --bricks "${BIE_BRICKS:-1000}" --ratios 500 --bie-steps 100 --steps 1000 \
+    run env $env $exe speedup --damped --bricks "${BIE_BRICKS:-1000}" --ratios 500 --bie-steps 1000 --steps 1000 \
       --out "$out/speedup_damped.csv" --kokkos-num-threads=2 ;;
   accuracy)
     note accuracy
