@@ -199,35 +199,43 @@ void timing(const std::string& sizes, double ratio, long steps, std::ostream& ou
   }
 }
 
+// ---------------------------------------------------------------- speedup and accuracy: the variants
+// UE, BE, BIE iterated, BIE split (index 0..3). --damped puts Table 4.2's damping (the 10k-brick row
+// of ratio r) on every method and caps each method's step by its undamped critical step, as
+// nacre_perf_dyn_step does (the bisection of an explicit method under heavy stiffness damping finds
+// growth too slow for its trials, docs/methods.md "Damped").
+const dyn::Method kVariantMethod[4] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie, dyn::Method::bie};
+const char* const kVariantName[4] = {"ue", "be", "bie", "bie_split"};
+
+dyn::Params variant_params(int k, double r, bool damped) {
+  dyn::Params p = params(kVariantMethod[k], r);
+  if (damped) dyn::table_4_2_damping(10206, r, p.alpha_d, p.beta_d);
+  if (k == 3) p.bie_scheme = dyn::BieScheme::split;
+  return p;
+}
+
+double variant_crit(int k, double r, bool damped, const Setup& st, long crit_steps) {
+  const double h = crit(variant_params(k, r, damped), st, crit_steps, 0.02);
+  return damped ? std::min(h, crit(variant_params(k, r, false), st, crit_steps, 0.02)) : h;
+}
+
 // ---------------------------------------------------------------- speed-up to the same time
-// --damped: Table 4.2's damping (the 10k-brick row of ratio r) on every method, BIE's split step
-// (bie_split) beside the iterated one, each method's step capped by its undamped critical step
-// (as nacre_perf_dyn_step); the simulated time is bie_steps steps of the larger BIE step.
+// --damped: Table 4.2's damping on every method and BIE's split step (bie_split) beside the
+// iterated one (variant_params); the simulated time is bie_steps steps of the larger BIE step.
 void speedup(long bricks, const std::string& ratios, long bie_steps, long crit_steps, double safety, bool damped,
              std::ostream& out) {
   const auto st = specimen(bricks);
   out << "method,ratio,bricks,critical_step_s,step_used_s,steps,sim_time_s,wall_s,s_per_step,speedup_vs_ue,"
          "speedup_vs_be,stable,alpha_d,beta_d\n";
   const int nm = damped ? 4 : 3;
-  const dyn::Method ms[4] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie, dyn::Method::bie};
-  const char* names[4] = {"ue", "be", "bie", "bie_split"};
   for (double r : parse_list(ratios)) {
     double h[4], wall[4], sps[4];
     long n[4];
     bool ok[4];
-    auto params = [&](int k, bool with_damping) {
-      dyn::Params p = ::params(ms[k], r);
-      if (damped && with_damping) dyn::table_4_2_damping(10206, r, p.alpha_d, p.beta_d);
-      if (k == 3) p.bie_scheme = dyn::BieScheme::split;
-      return p;
-    };
-    for (int k = 0; k < nm; ++k) {
-      h[k] = crit(params(k, true), st, crit_steps, 0.02);
-      if (damped) h[k] = std::min(h[k], crit(params(k, false), st, crit_steps, 0.02));
-    }
+    for (int k = 0; k < nm; ++k) h[k] = variant_crit(k, r, damped, st, crit_steps);
     const double T = bie_steps * safety * (damped ? std::max(h[2], h[3]) : h[2]);
     for (int k = 0; k < nm; ++k) {
-      auto p = params(k, true);
+      auto p = variant_params(k, r, damped);
       p.dt = safety * h[k];
       n[k] = std::lround(std::ceil(T / p.dt));
       p.dt = T / static_cast<double>(n[k]);
@@ -236,12 +244,12 @@ void speedup(long bricks, const std::string& ratios, long bie_steps, long crit_s
       ok[k] = sim.advance(Exec{}, n[k]);
       Exec().fence();
       wall[k] = seconds(t0), sps[k] = wall[k] / static_cast<double>(n[k]);
-      std::cerr << "speedup " << names[k] << " ratio " << r << ": " << n[k] << " steps, " << wall[k] << " s"
+      std::cerr << "speedup " << kVariantName[k] << " ratio " << r << ": " << n[k] << " steps, " << wall[k] << " s"
                 << (ok[k] ? "" : " UNSTABLE") << "\n";
     }
     for (int k = 0; k < nm; ++k) {
-      const auto p = params(k, true);
-      out << names[k] << "," << r << "," << st.s.size() << "," << h[k] << "," << T / n[k] << "," << n[k] << "," << T
+      const auto p = variant_params(k, r, damped);
+      out << kVariantName[k] << "," << r << "," << st.s.size() << "," << h[k] << "," << T / n[k] << "," << n[k] << "," << T
           << "," << wall[k] << "," << sps[k] << "," << wall[0] / wall[k] << "," << wall[1] / wall[k] << "," << ok[k]
           << "," << p.alpha_d << "," << p.beta_d << "\n";
     }
@@ -288,40 +296,22 @@ double history_error(const History& a, const History& ref) {
   return e / s;
 }
 
-// --damped: Table 4.2's Rayleigh damping (alpha_d, beta_d of the nearest tabulated size) on every
-// method, references included. bie_split is BIE with the split step (BieScheme::split).
+// --damped: Table 4.2's damping on every method, references included (variant_params); the
+// horizon in steps of the larger BIE step.
 void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps, int levels, bool damped,
               std::ostream& out) {
   const auto st = specimen(bricks);
-  const dyn::Method ms[4] = {dyn::Method::ue, dyn::Method::be, dyn::Method::bie, dyn::Method::bie};
-  const char* names[4] = {"ue", "be", "bie", "bie_split"};
-  auto params = [&](dyn::Method m, double r, int k = -1) {
-    dyn::Params p = ::params(m, r);
-    if (damped) dyn::table_4_2_damping(10206, r, p.alpha_d, p.beta_d);
-    if (k == 3) p.bie_scheme = dyn::BieScheme::split;
-    return p;
-  };
-  // damped: each method's step capped by its undamped critical step, as nacre_perf_dyn_step does
-  // (the bisection of an explicit method under heavy stiffness damping finds growth too slow for
-  // its trials, docs/methods.md "Damped"); the horizon in steps of the larger BIE step
   double h[4];
-  for (int k = 0; k < 4; ++k) {
-    h[k] = crit(params(ms[k], ratio, k), st, crit_steps, 0.02);
-    if (damped) {
-      auto q = params(ms[k], ratio, k);
-      q.alpha_d = q.beta_d = 0;
-      h[k] = std::min(h[k], crit(q, st, crit_steps, 0.02));
-    }
-  }
+  for (int k = 0; k < 4; ++k) h[k] = variant_crit(k, ratio, damped, st, crit_steps);
   const double T = T_in_bie_steps * std::max(h[2], h[3]);
   const int samples = 16;
   // common reference: BE (the bolted model) at 1/8 of its smallest step below; UE's own
   // reference at 1/8 of its smallest step (UE is a different model: stiff joints, not bolts)
   const double fine = std::pow(0.5, levels + 2);
-  auto pbe = params(dyn::Method::be, ratio);
+  auto pbe = variant_params(1, ratio, damped);
   pbe.dt = h[1] * fine;
   const History ref_be = history(pbe, st, T, samples);
-  auto pue = params(dyn::Method::ue, ratio);
+  auto pue = variant_params(0, ratio, damped);
   pue.dt = h[0] * fine;
   const History ref_ue = history(pue, st, T, samples);
   std::cerr << "accuracy: references done (BE " << ref_be.wall << " s, UE " << ref_ue.wall << " s)\n";
@@ -329,16 +319,16 @@ void accuracy(long bricks, double ratio, long crit_steps, double T_in_bie_steps,
          "newton_residual,alpha_d,beta_d\n";
   for (int k = 0; k < 4; ++k)
     for (int l = 0; l <= levels; ++l) {
-      auto p = params(ms[k], ratio, k);
+      auto p = variant_params(k, ratio, damped);
       p.dt = 0.95 * h[k] * std::pow(0.5, l);
       const History a = history(p, st, T, samples);
       const History& own = k == 0 ? ref_ue : ref_be;
-      out << names[k] << "," << ratio << "," << st.s.size() << "," << a.dt << "," << a.dt / h[k] << "," << T << ","
+      out << kVariantName[k] << "," << ratio << "," << st.s.size() << "," << a.dt << "," << a.dt / h[k] << "," << T << ","
           << a.wall << "," << history_error(a, own) << "," << history_error(a, ref_be) << ","
           << (a.strain.empty() ? 0.0 : a.strain.back()) << "," << a.ok << "," << a.newton << "," << p.alpha_d << ","
           << p.beta_d << "\n";
       out.flush();
-      std::cerr << "accuracy " << names[k] << " h/hcrit " << p.dt / h[k] << ": err " << history_error(a, own) << "\n";
+      std::cerr << "accuracy " << kVariantName[k] << " h/hcrit " << p.dt / h[k] << ": err " << history_error(a, own) << "\n";
     }
 }
 

@@ -233,15 +233,9 @@ struct BieIntegrator {
 
   /// a(x) of the current iterate (interface force gathered in a fixed order).
   KOKKOS_INLINE_FUNCTION void accel(int e, int t, double* ax) const {
-    double f[kMaxDof];
-    explicit_force(e, t, f);
-    accel_of(e, t, f, ax);
-  }
-
-  /// a(x) of the current state of element e for the explicit force f.
-  KOKKOS_INLINE_FUNCTION void accel_of(int e, int t, const double* f, double* ax) const {
     const int nd = ex.nd;
-    double w[kMaxDof];
+    double f[kMaxDof], w[kMaxDof];
+    explicit_force(e, t, f);
     for (int j = 0; j < nd; ++j) w[j] = ex.u(e, j) + ex.beta * ex.v(e, j);
     for (int i = 0; i < nd; ++i) {
       double kw = 0;
@@ -504,7 +498,7 @@ struct BieIntegrator {
                                          const double (*KOKKOS_RESTRICT v)[kTile],
                                          const double (*KOKKOS_RESTRICT ax)[kTile], const double (*KOKKOS_RESTRICT pn0)[kTile],
                                          const double (*KOKKOS_RESTRICT v0)[kTile], const double (*KOKKOS_RESTRICT a0)[kTile],
-                                         double* work, double* pd, double* g2, double* d2, bool residual = true) const {
+                                         double* work, double* pd, double* g2, double* d2) const {
     const int nd = ex.nd;
     const double h = ex.h;
     double dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile];
@@ -525,37 +519,37 @@ struct BieIntegrator {
       for (int b = 0; b < kTile; ++b) {
         pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + (ex.beta != 0.0 ? ex.beta * kv[i][b] : 0.0));
         const double dvi = v[i][b] - v0[i][b];
-        const double gv = residual ? 0.5 * h * (a0[i][b] + ax[i][b]) - dvi : 0.0;  // the split: no residual
+        const double gv = ax ? 0.5 * h * (a0[i][b] + ax[i][b]) - dvi : 0.0;  // ax = nullptr: the split, no residual
         g2[b] += m * gv * gv, d2[b] += m * dvi * dvi;
       }
     }
   }
 
-  /// x += J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities).
-  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
-    const int n = 2 * ex.nd, nd = ex.nd;
+  /// y = J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities; g is
+  /// scaled in place for the block forms): the velocity-first form, or the rows of J^-1 (dense or
+  /// block structure) in blocks of kRowBlock accumulators. Every tiled J^-1 apply goes through here.
+  KOKKOS_INLINE_FUNCTION void tile_correction(int t, double (*KOKKOS_RESTRICT g)[kTile],
+                                              double (*KOKKOS_RESTRICT y)[kTile]) const {
+    const int n = 2 * ex.nd;
     tile_block_scale(t, g);
     if (vfirst) {
-      double y[kMaxBie][kTile];
       tile_vfirst(t, g, y);
-      for (int b = 0; b < nb; ++b) {
-        const int e = ex.tile_elem(k0 + b);
-        for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b], ex.v(e, j) += y[nd + j][b];
-      }
       return;
     }
     for (int i0 = 0; i0 < n; i0 += kRowBlock) {
-      double y[kRowBlock][kTile];
       const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      tile_jinv_rows(t, i0, nq, g, y);
-      for (int q = 0; q < nq; ++q) {
-        const int row = i0 + q;
-        for (int b = 0; b < nb; ++b) {
-          const int e = ex.tile_elem(k0 + b);
-          if (row < nd) ex.u(e, row) += y[q][b];
-          else ex.v(e, row - nd) += y[q][b];
-        }
-      }
+      tile_jinv_rows(t, i0, nq, g, y + i0);
+    }
+  }
+
+  /// x += J^-1 G for the tile's elements.
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
+    const int nd = ex.nd;
+    double y[kMaxBie][kTile];
+    tile_correction(t, g, y);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b], ex.v(e, j) += y[nd + j][b];
     }
   }
 
@@ -632,32 +626,16 @@ struct BieIntegrator {
   KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalTileTag, int w) const {
     if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    const int n = 2 * nd;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
         v0[kMaxDof][kTile], a0[kMaxDof][kTile], g[kMaxBie][kTile];
     tile_load(t, k0, nb, f, u, v);
     tile_acc(t, f, u, v, ax);
     tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
-    tile_block_scale(t, g);
-    // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
-    if (vfirst) {
+    {  // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
       double y[kMaxBie][kTile];
-      tile_vfirst(t, g, y);
+      tile_correction(t, g, y);
       for (int j = 0; j < nd; ++j)
         for (int b = 0; b < kTile; ++b) u[j][b] += y[j][b], v[j][b] += y[nd + j][b];
-    } else {
-      for (int i0 = 0; i0 < n; i0 += kRowBlock) {
-        double y[kRowBlock][kTile];
-        const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-        tile_jinv_rows(t, i0, nq, g, y);
-        for (int q = 0; q < nq; ++q) {
-          const int row = i0 + q;
-          for (int b = 0; b < kTile; ++b) {
-            if (row < nd) u[row][b] += y[q][b];
-            else v[row - nd][b] += y[q][b];
-          }
-        }
-      }
     }
     // a_{n+1} = a(x_{n+1}) with the same interface force f, then the books
     tile_acc(t, f, u, v, ax);
@@ -732,11 +710,13 @@ struct BieIntegrator {
         g[nd + i][b] = h * al;
       }
     }
+    double y[kMaxBie][kTile];
+    tile_correction(t, g, y);
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
-      for (int j = 0; j < nd; ++j) pn(e, j) = p[j][b], vn(e, j) = v[j][b], ex.v(e, j) = v[j][b];
+      for (int j = 0; j < nd; ++j)
+        pn(e, j) = p[j][b], vn(e, j) = v[j][b], ex.u(e, j) = p[j][b] + y[j][b], ex.v(e, j) = v[j][b] + y[nd + j][b];
     }
-    tile_solve_update(t, k0, nb, g);
   }
 
   /// The split step's end (BieSplitFinalTag) per tile; driven elements as the explicit methods.
@@ -754,7 +734,7 @@ struct BieIntegrator {
         const int e = ex.tile_elem(k0 + (live ? b : 0));
         for (int j = 0; j < nd; ++j) p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0;
       }
-      tile_books(t, k0, nb, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2, false);  // no residual: no a
+      tile_books(t, k0, nb, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2);  // no residual: no a
     }
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
