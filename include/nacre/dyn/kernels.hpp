@@ -118,31 +118,35 @@ struct InterfaceOp {
   KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate<true, false>(i, nullptr); }
 
   /// Forces of interface i when the whole segment is elastic and open: |jump|^2 is convex in s
-  /// and dn linear, so both ends inside the elastic disc with dn >= 0 put every point there; the
-  /// traction is then k (dn, dt), the integrand (shape function x traction) a quadratic in s, and
-  /// Simpson's rule (3 points, no sqrt, no division, no branch per point) is exact, as the n >= 2
-  /// point Gauss rule is: the same integral to rounding. Returns false (f untouched) otherwise.
+  /// and dn linear, so both ends inside the elastic disc with dn >= 0 put every point there. The
+  /// traction is then k (dn, dt) in the interface's frame, which is k times the jump vector G in
+  /// any frame (a rotation): no turn into the normal frame and back. With G linear from G0 to G1
+  /// the consistent end forces are k L t (2 G0 + G1) / 6 and k L t (G0 + 2 G1) / 6 (the exact
+  /// integrals against 1 - s and s, as the n >= 2 point Gauss rule gives them), and each edge
+  /// node takes them with its shape function's values at the two segment ends. About 70 flops,
+  /// half of the 3-point form this replaced, and no branch per point. Returns false (f untouched)
+  /// otherwise.
   KOKKOS_INLINE_FUNCTION bool elastic_force(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(ishape(i))];
-    double dn0, dt0, xa0, xb0, dn1, dt1, xa1, xb1;
-    jump(i, q, 0.0, dn0, dt0, xa0, xb0);
-    jump(i, q, 1.0, dn1, dt1, xa1, xb1);
-    const double x1sq = m.x1 * m.x1;
-    if (!(dn0 >= 0.0 && dn1 >= 0.0 && dn0 * dn0 + dt0 * dt0 <= x1sq && dn1 * dn1 + dt1 * dt1 <= x1sq)) return false;
-    double dnm, dtm, xam, xbm;
-    jump(i, q, 0.5, dnm, dtm, xam, xbm);
-    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
-    const double c0 = lt * m.k / 6.0, cm = 4.0 * c0;
-    const double dn[3] = {dn0, dnm, dn1}, dt[3] = {dt0, dtm, dt1}, xa[3] = {xa0, xam, xa1}, xb[3] = {xb0, xbm, xb1};
-    const double c[3] = {c0, cm, c0};
-    for (int k = 0; k < 8; ++k) f[k] = 0;
-    for (int p = 0; p < 3; ++p) {
-      const double tx = c[p] * (dn[p] * nx - dt[p] * ny), ty = c[p] * (dn[p] * ny + dt[p] * nx);
-      f[0] += (1 - xa[p]) * tx, f[1] += (1 - xa[p]) * ty, f[2] += xa[p] * tx, f[3] += xa[p] * ty;
-      f[4] -= (1 - xb[p]) * tx, f[5] -= (1 - xb[p]) * ty, f[6] -= xb[p] * tx, f[7] -= xb[p] * ty;
-    }
+    const int sh = ishape(i);
+    const cohesive::Law& m = laws[ikind(sh)];
+    const double xa0 = ixi(sh, 0), xa1 = ixi(sh, 1), xb0 = ixi(sh, 2), xb1 = ixi(sh, 3);
+    const double g0x = (1 - xb0) * q[4] + xb0 * q[6] - (1 - xa0) * q[0] - xa0 * q[2];
+    const double g0y = (1 - xb0) * q[5] + xb0 * q[7] - (1 - xa0) * q[1] - xa0 * q[3];
+    const double g1x = (1 - xb1) * q[4] + xb1 * q[6] - (1 - xa1) * q[0] - xa1 * q[2];
+    const double g1y = (1 - xb1) * q[5] + xb1 * q[7] - (1 - xa1) * q[1] - xa1 * q[3];
+    const double nx = inx(sh), ny = iny(sh), x1sq = m.x1 * m.x1;
+    if (!(g0x * nx + g0y * ny >= 0.0 && g1x * nx + g1y * ny >= 0.0 && g0x * g0x + g0y * g0y <= x1sq &&
+          g1x * g1x + g1y * g1y <= x1sq))
+      return false;
+    const double c = ilen(sh) * thickness * m.k * (1.0 / 6.0);
+    const double f0x = c * (2.0 * g0x + g1x), f0y = c * (2.0 * g0y + g1y);  // dE/dG at s = 0
+    const double f1x = c * (g0x + 2.0 * g1x), f1y = c * (g0y + 2.0 * g1y);  // ... at s = 1
+    f[0] = (1 - xa0) * f0x + (1 - xa1) * f1x, f[1] = (1 - xa0) * f0y + (1 - xa1) * f1y;
+    f[2] = xa0 * f0x + xa1 * f1x, f[3] = xa0 * f0y + xa1 * f1y;
+    f[4] = -((1 - xb0) * f0x + (1 - xb1) * f1x), f[5] = -((1 - xb0) * f0y + (1 - xb1) * f1y);
+    f[6] = -(xb0 * f0x + xb1 * f1x), f[7] = -(xb0 * f0y + xb1 * f1y);
     return true;
   }
 
