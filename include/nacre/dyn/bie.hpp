@@ -138,6 +138,12 @@ struct BieIntegrator {
   /// The velocity-first apply (BieTables::vfirst, beta_d != 0): y_v = Jv [g~_p; g_v], y_p = g~_p + h/2 y_v.
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> Jv;
   bool vfirst = false;
+  /// BieStartTileTag applies only the position rows of J^-1 and leaves v at v_n: bie_step sets it
+  /// when the reduced last pass (BieIterFinalLinearTileTag, C = 0, two iterations) follows, which
+  /// takes v_{n+1} = v_n + h/2 (a_n + a(x_1)) and never reads the first iterate's velocity (the
+  /// interface force between reads u only). Half of the start's J^-1 apply and its v stores
+  /// skipped; u_1 and every end-of-step value keep their bits (rows are summed independently).
+  bool start_positions_only = false;
 
   /// g~_p = g_p - jq g_v on the dofs with mass (the block apply's input); nothing when jq = 0.
   KOKKOS_INLINE_FUNCTION void tile_block_scale(int t, double (*KOKKOS_RESTRICT g)[kTile]) const {
@@ -553,6 +559,20 @@ struct BieIntegrator {
     }
   }
 
+  /// u += (J^-1 G)_p for the tile's elements, v untouched (start_positions_only; the block form
+  /// without damping: g_p needs no scaling, and the first nd rows are those of tile_correction).
+  KOKKOS_INLINE_FUNCTION void tile_solve_update_positions(int t, int k0, int nb,
+                                                          const double (*KOKKOS_RESTRICT g)[kTile]) const {
+    const int nd = ex.nd;
+    double y[kMaxBie][kTile];
+    for (int i0 = 0; i0 < nd; i0 += kRowBlock)
+      tile_jinv_rows(t, i0, nd - i0 < kRowBlock ? nd - i0 : kRowBlock, g, y + i0);
+    for (int b = 0; b < nb; ++b) {
+      const int e = ex.tile_elem(k0 + b);
+      for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b];
+    }
+  }
+
   /// Start (BieStartTag) and the first J^-1 apply and update, per tile; driven elements impose t_{n+1}.
   KOKKOS_INLINE_FUNCTION void operator()(BieStartTileTag, int w) const {
     if (w >= ex.n_tiles) {
@@ -575,7 +595,10 @@ struct BieIntegrator {
         g[nd + j][b] = h * a;
       }
     }
-    tile_solve_update(t, k0, nb, g);
+    if (start_positions_only)
+      tile_solve_update_positions(t, k0, nb, g);
+    else
+      tile_solve_update(t, k0, nb, g);
   }
 
   /// Residual (BieResidualTag), J^-1 apply and update, per tile; driven elements untouched.
@@ -915,9 +938,14 @@ void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSp
   }
   if (fused) {  // shared J^-1 over the element tiles, residual never stored (BieStartTileTag ...)
     const int nw = it.ex.n_tiles + it.ex.n_driven;
+    // the reduced last pass follows: the start needs only u_1 (BieIntegrator::start_positions_only)
+    const bool reduced_end = iterations == 2 && reuse_force && it.block_lower && it.jq == 0.0 && !it.vfirst;
     {
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
-      Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw), it);
+      BieIntegrator<MemOf<ExecutionSpace>> start = it;
+      start.start_positions_only = reduced_end;
+      Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw),
+                           start);
     }
     for (int k = 0; k < iterations; ++k) {
       if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
