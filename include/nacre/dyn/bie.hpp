@@ -427,13 +427,16 @@ struct BieIntegrator {
     }
   }
 
-  /// Loads of a tile: f = gathered interface force + Theta + F_p, u and v (padded lanes zero).
+  /// Loads of a tile: f = gathered interface force + Theta + F_p, u (unless nullptr) and v
+  /// (padded lanes zero).
   KOKKOS_INLINE_FUNCTION void tile_load(int t, int k0, int nb, double (*KOKKOS_RESTRICT f)[kTile],
                                         double (*KOKKOS_RESTRICT u)[kTile], double (*KOKKOS_RESTRICT v)[kTile]) const {
     const int nd = ex.nd;
     for (int b = 0; b < kTile; ++b) {
       if (b >= nb) {
-        for (int j = 0; j < nd; ++j) u[j][b] = v[j][b] = f[j][b] = 0;
+        for (int j = 0; j < nd; ++j) v[j][b] = f[j][b] = 0;
+        if (u)
+          for (int j = 0; j < nd; ++j) u[j][b] = 0;
         continue;
       }
       const int e = ex.tile_elem(k0 + b);
@@ -441,8 +444,10 @@ struct BieIntegrator {
       ex.gather(e, fi);
       for (int j = 0; j < nd; ++j) {
         f[j][b] = fi[j] + (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0));  // as accel's f += ...
-        u[j][b] = ex.u(e, j), v[j][b] = ex.v(e, j);
+        v[j][b] = ex.v(e, j);
       }
+      if (u)
+        for (int j = 0; j < nd; ++j) u[j][b] = ex.u(e, j);
     }
   }
 
@@ -735,10 +740,17 @@ struct BieIntegrator {
     }
     double y[kMaxBie][kTile];
     tile_correction(t, g, y);
+    // p_{n+1}, v- into wv, kw (free now); the step's books are complete here: they need p_n, v+,
+    // p_{n+1} and v-, not the end's kick (BieSplitFinalTag books them from the stored p_n, v+ and
+    // the same rounded p_{n+1}, v-: the same bits), so p_n, v+ are never stored nor reloaded
+    for (int j = 0; j < nd; ++j)
+      for (int b = 0; b < kTile; ++b) wv[j][b] = p[j][b] + y[j][b], kw[j][b] = v[j][b] + y[nd + j][b];
+    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
+    if (book) tile_books(t, k0, nb, wv, kw, nullptr, p, v, nullptr, work, pd, g2, d2);  // no residual
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
-      for (int j = 0; j < nd; ++j)
-        pn(e, j) = p[j][b], vn(e, j) = v[j][b], ex.u(e, j) = p[j][b] + y[j][b], ex.v(e, j) = v[j][b] + y[nd + j][b];
+      for (int j = 0; j < nd; ++j) ex.u(e, j) = wv[j][b], ex.v(e, j) = kw[j][b];
+      if (book) store_books(e, work[b], pd[b], 0.0, d2[b]);  // g2 = 0: no iteration
     }
   }
 
@@ -747,18 +759,8 @@ struct BieIntegrator {
     if (driven_final(w)) return;
     const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
     const double h = ex.h;
-    double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
-    tile_load(t, k0, nb, f, u, v);
-    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
-    if (book) {
-      double p0[kMaxDof][kTile], v0[kMaxDof][kTile];
-      for (int b = 0; b < kTile; ++b) {
-        const bool live = b < nb;
-        const int e = ex.tile_elem(k0 + (live ? b : 0));
-        for (int j = 0; j < nd; ++j) p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0;
-      }
-      tile_books(t, k0, nb, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2);  // no residual: no a
-    }
+    double f[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
+    tile_load(t, k0, nb, f, nullptr, v);  // the books were kept by the start (BieSplitStartTileTag)
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
       for (int b = 0; b < kTile; ++b) {
@@ -769,8 +771,6 @@ struct BieIntegrator {
     for (int b = 0; b < nb; ++b) {
       const int e = ex.tile_elem(k0 + b);
       for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
-      if (!book) continue;
-      store_books(e, work[b], pd[b], 0.0, d2[b]);
     }
   }
 };
