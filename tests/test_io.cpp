@@ -4,6 +4,7 @@
 // differing key, strict dump names, stale temporaries, and the colouring rule.
 #include <nacre/app/restart.hpp>
 #include <nacre/deck/limits.hpp>
+#include <nacre/dyn/simulation.hpp>
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/results.hpp>
@@ -13,6 +14,7 @@
 #include <catch2/catch_test_macros.hpp>
 #include <catch2/matchers/catch_matchers_string.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -234,6 +236,25 @@ TEST_CASE("MC checkpoints are range-checked on the way in (valid checksums)", "[
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a dynamic checkpoint without an array the state now holds is refused as written by an older nacre",
+          "[io][checkpoint][dyn]") {
+  // A checkpoint an older nacre wrote for the same deck passes the fingerprint and the checksum;
+  // the state it holds lacks what was added since (dacc: the driven elements' accumulators). It
+  // must be refused by name (CheckpointError: exit 2, nothing built or written), not fail later.
+  const auto& names = dyn::Simulation::state_array_names();
+  REQUIRE(std::find(names.begin(), names.end(), std::string("dacc")) != names.end());
+  io::Checkpoint c;
+  for (const auto& n : names) c.arrays[n] = {0.0};
+  CHECK_NOTHROW(app::check_state_arrays(c, names, "cp.h5"));
+  c.arrays.erase("dacc");
+  try {
+    app::check_state_arrays(c, names, "cp.h5");
+    FAIL("a state without dacc was accepted");
+  } catch (const io::CheckpointError& e) {
+    CHECK_THAT(e.what(), ContainsSubstring("cp.h5: array 'dacc' missing: the checkpoint was written by an older nacre"));
+  }
 }
 
 TEST_CASE("a restart fingerprint names the first differing key", "[io][checkpoint][deck]") {

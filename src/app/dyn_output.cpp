@@ -257,6 +257,10 @@ DynCheckpoint DynWriter::read_checkpoint(const std::filesystem::path& path, cons
   if (!(c.dt > 0) || c.step < 0)
     throw io::CheckpointError(path.string() + ": dt = " + std::to_string(c.dt) + ", step = " + std::to_string(c.step) +
                               " out of range; expected dt > 0 and step >= 0");
+  // Arrays a newer nacre added to the state (dacc: the driven elements' accumulators, 2026-11)
+  // are missing from a checkpoint an older build wrote: say so here, before anything is built or
+  // written, rather than fail later in restore_state.
+  check_state_arrays(k, dyn::Simulation::state_array_names(), path.string());
   c.state = k.arrays;
   return c;
 }

@@ -70,4 +70,13 @@ void check_fingerprint(const io::Checkpoint& c, const deck::Deck& d, const std::
                             "; restart with the deck that made it (output keys may differ)");
 }
 
+void check_state_arrays(const io::Checkpoint& c, const std::vector<std::string>& names,
+                        const std::string& checkpoint_path) {
+  for (const auto& name : names)
+    if (!c.arrays.count(name))
+      throw io::CheckpointError(checkpoint_path + ": array '" + name +
+                                "' missing: the checkpoint was written by an older nacre, whose state lacks it; "
+                                "run the deck again from the start (without --restart)");
+}
+
 }  // namespace nacre::app

@@ -369,10 +369,15 @@ StateArrays Simulation::save_state() const {
   return s;
 }
 
+const std::vector<std::string>& Simulation::state_array_names() {
+  static const std::vector<std::string> names{"u", "v", "a", "acc", "dacc", "clock", "shape"};
+  return names;
+}
+
 void Simulation::restore_state(const StateArrays& a) {
   auto& I = *impl_;
-  for (const char* k : {"u", "v", "a", "acc", "dacc", "clock", "shape"})
-    if (!a.count(k)) throw std::runtime_error(std::string("dyn::restore_state: array '") + k + "' missing");
+  for (const auto& k : state_array_names())
+    if (!a.count(k)) throw std::runtime_error("dyn::restore_state: array '" + k + "' missing");
   const auto& shape = a.at("shape");
   if (shape.size() != 4 || shape[0] != I.m.n_elem || shape[1] != I.m.nd ||
       shape[2] != static_cast<double>(I.p.method) || shape[3] != I.m.n_iface)

@@ -7,6 +7,7 @@
 #include <nacre/io/checkpoint.hpp>
 
 #include <string>
+#include <vector>
 
 namespace nacre::app {
 
@@ -21,5 +22,11 @@ namespace nacre::app {
 /// naming the first differing line of the physics text ("mortar.k = 100 in the checkpoint,
 /// 120 in the deck"). The checkpoint must hold its text as strings["deck"].
 void check_fingerprint(const io::Checkpoint& c, const deck::Deck& d, const std::string& checkpoint_path);
+
+/// \brief Refuses (io::CheckpointError) a checkpoint that lacks one of the named state arrays:
+/// a solver that added an array to its state cannot restart from a checkpoint an older nacre
+/// wrote (same deck, same fingerprint, valid checksum), and says so before anything is built.
+void check_state_arrays(const io::Checkpoint& c, const std::vector<std::string>& names,
+                        const std::string& checkpoint_path);
 
 }  // namespace nacre::app

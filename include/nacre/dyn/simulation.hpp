@@ -143,6 +143,9 @@ public:
   [[nodiscard]] Snapshot snapshot() const;
 
   [[nodiscard]] StateArrays save_state() const;
+  /// \brief Names of the arrays save_state() writes and restore_state() needs (a reader can
+  /// check a checkpoint for them before building a Simulation).
+  [[nodiscard]] static const std::vector<std::string>& state_array_names();
   void restore_state(const StateArrays& a);    ///< throws std::runtime_error on a size/shape mismatch
 
   /// \brief Bytes of device memory held (model + state), and how many element types were shared.
