@@ -292,13 +292,12 @@ namespace detail {
 /// subexpressions, so the products round alike): indexed by kind byte.
 struct LaneLaws {
   static_assert(geometry::kJointKinds == 3, "sweep_colour(BatchedTrials) selects among three joint kinds");
-  double k[geometry::kJointKinds], x1sq[geometry::kJointKinds], r2[geometry::kJointKinds];
+  double k[geometry::kJointKinds], x1sq[geometry::kJointKinds];
 };
 inline LaneLaws lane_laws(const cohesive::LawTable& t) {
   LaneLaws l{};
   for (int i = 0; i < geometry::kJointKinds; ++i) {
-    const double r = 1.0 / t.law[i].x1;
-    l.k[i] = t.law[i].k, l.x1sq[i] = t.law[i].x1 * t.law[i].x1, l.r2[i] = r * r;
+    l.k[i] = t.law[i].k, l.x1sq[i] = t.law[i].x1 * t.law[i].x1;
   }
   return l;
 }
@@ -413,7 +412,6 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
         const Uniforms uni = uniforms;
         const double k0 = ll.k[0], k1 = ll.k[1], k2 = ll.k[2];
         const double xs0 = ll.x1sq[0], xs1 = ll.x1sq[1], xs2 = ll.x1sq[2];
-        const double rr0 = ll.r2[0], rr1 = ll.r2[1], rr2 = ll.r2[2];
         int first[W], last[W];
         int kmax = 0;
         for (int l = 0; l < W; ++l) {
@@ -494,7 +492,6 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
               // the kind's constants by selects (3 kinds), not a gather from the closure
               const double lk = kd == 0 ? k0 : (kd == 1 ? k1 : k2);
               const double x1sq = kd == 0 ? xs0 : (kd == 1 ? xs1 : xs2);
-              const double r2 = kd == 0 ? rr0 : (kd == 1 ? rr1 : rr2);
               const kinematics::Frame f{fx[l], fy[l], ft[l], fs[l], fc[l]};
               const kinematics::Frame fo{po[0][l], po[1][l], po[2][l], po[3][l], po[4][l]};
               using C = SlotCol;
@@ -508,22 +505,22 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
               const double nx = rnx - tm * rny, ny = rny + tm * rnx;
               const double d0 = g0x * g0x + g0y * g0y, d1 = g1x * g1x + g1y * g1y;
               const double ef = lk * (d0 + g0x * g1x + g0y * g1y + d1) * (1.0 / 6.0);
-              // penalty_integral, its three cases (both ends penetrate, entering, leaving) as selects
+              // cohesive::detail::penalty_integral expression for expression (one quotient), its
+              // cases (no end penetrates, both do, one does) as selects
               const double q0 = g0x * nx + g0y * ny, q1 = g1x * nx + g1y * ny;
-              const bool enters = q0 >= 0.0, pen = !(enters & (q1 >= 0.0)), leaves = !enters & (q1 >= 0.0);  // & not &&: no branches
-              const double den = q0 - q1;
-              const double root = q0 / (den != 0.0 ? den : 1.0);
-              const double sa = enters ? root : 0.0, sb = leaves ? root : 1.0;
-              const double inv = 1.0 / Kokkos::sqrt(nx * nx + ny * ny);
-              const double da = (enters ? 0.0 : q0) * inv, db = (leaves ? 0.0 : q1) * inv;
-              const double v = da + db, v2 = v * v;
-              const double a2 = da * da, a3 = a2 * da, b2 = db * db, b3 = b2 * db;
-              // both forms computed, one selected (no conditional arithmetic: the loop stays one block)
-              const double sum_cross = v2 * v2 * v2;
-              const double sum_both = a3 * a3 + a3 * a2 * db + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + da * b2 * b3 + b3 * b3;
-              const double sum = ((da == 0.0) | (db == 0.0)) ? sum_cross : sum_both;
-              const double ep_any = (sb - sa) * 0.0625 * lk * r2 * r2 * sum * (1.0 / 7.0);
-              const double ep = pen ? ep_any : 0.0;
+              const bool pen = !((q0 >= 0.0) & (q1 >= 0.0)), both = (q0 < 0.0) & (q1 < 0.0);  // & not &&: no branches
+              const double n2 = nx * nx + ny * ny;
+              const double den = 7.0 * (n2 * n2 * n2) * (x1sq * x1sq);
+              const double a2 = q0 * q0, a3 = a2 * q0, b2 = q1 * q1, b3 = b2 * q1;
+              const double num = a3 * a3 + a3 * a2 * q1 + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + q0 * b2 * b3 + b3 * b3;
+              const double qa = q0 < 0.0 ? q0 : q1, qo = q0 < 0.0 ? q1 : q0;  // qa < 0 <= qo where one end penetrates
+              const double qa2 = qa * qa, qa6 = qa2 * qa2 * qa2;
+              // both forms computed, one selected (no conditional arithmetic: the loop stays one
+              // block); the unselected form's divisors are kept non-zero, the selected one's are
+              const double dq = qa - qo, dd = den != 0.0 ? den : 1.0;
+              const double e_both = 0.0625 * lk * num / dd;
+              const double e_one = 0.0625 * lk * (qa6 * qa) / ((dq != 0.0 ? dq : 1.0) * dd);
+              const double ep = pen ? (both ? e_both : e_one) : 0.0;
               en[l] = r(C::length) * (ef + ep);
               general[l] = on[l] & int(!((d0 <= x1sq) & (d1 <= x1sq)));
               eo[l] = cached_l[lnk_l[j * lsr + 1]];
