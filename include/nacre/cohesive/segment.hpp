@@ -223,6 +223,8 @@ KOKKOS_INLINE_FUNCTION bool penetration(const Gap& g, double& sa, double& sb, do
 /// Thermal jitter puts most elastic interfaces in the second case, so this is on the sweep's
 /// hot path (before: a division for the root, a square root and a division for 1 / |n|, and
 /// 1 / x1: three divisions and a root per interface).
+/// Precondition: the normal is near unit length (every caller's is: a unit normal turned by a
+/// small angle, or unit): 7 n2^3 x1^4 must not underflow, or a penetrating end gives 0 / 0.
 KOKKOS_INLINE_FUNCTION double penalty_integral(const Law& m, const Gap& g) {
   const double a0 = g.g0x * g.nx + g.g0y * g.ny, a1 = g.g1x * g.nx + g.g1y * g.ny;
   if (a0 >= 0.0 && a1 >= 0.0) return 0.0;

@@ -332,10 +332,13 @@ struct BieIntegrator {
   //   start: v+ = v_n + h/2 phi_n (half kick), and the linear midpoint from (p_n, v+): at x^0 =
   //          (p_n, v+) its residual is G = (h v+ + h^2/2 a_L, h a_L), a_L = -M^-1 K (p_n + beta
   //          v+) - alpha v+, and J of eq. 4.7 is its exact Jacobian: one apply solves it
-  //          (p_{n+1}, v-). pn, vn keep p_n and v+.
+  //          (p_{n+1}, v-). Per element (unfused) pn, vn keep p_n and v+ for the final's
+  //          books; the fused tile start computes the books itself, from the same rounded values,
+  //          while p_n, v+, p_{n+1}, v- are in registers, and stores neither.
   //   then the interface force at p_{n+1};
-  //   final: books (work of Theta + F_p over dp; damping dp . C (v+ + v-)/2, the midpoint's exact
-  //          dissipation), phi_{n+1} = M^-1 F_{n+1}, v_{n+1} = v- + h/2 phi_{n+1} (half kick).
+  //   final: the books where the start did not take them (work of Theta + F_p over dp; damping
+  //          dp . C (v+ + v-)/2, the midpoint's exact dissipation), phi_{n+1} = M^-1 F_{n+1},
+  //          v_{n+1} = v- + h/2 phi_{n+1} (half kick).
   // One K apply per step (two with beta_d: the damping book), as the iterated step's reduced form.
   // The per-element and tiled kernels do the same operations in the same order (the same bits).
 
