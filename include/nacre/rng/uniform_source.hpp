@@ -38,13 +38,16 @@ KOKKOS_INLINE_FUNCTION double to_unit_double(std::uint64_t bits) {
 KOKKOS_INLINE_FUNCTION void philox_uniforms(std::uint64_t seed, std::uint64_t stream, std::uint64_t draw,
                                             double u[4]) {
   const std::uint32_t k0 = static_cast<std::uint32_t>(seed), k1 = static_cast<std::uint32_t>(seed >> 32);
+  Block128 r[2];
   for (int half = 0; half < 2; ++half) {
     const std::uint64_t c = 2 * draw + static_cast<std::uint64_t>(half);
-    const Block128 ctr{{static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32),
+    r[half] = Block128{{static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(stream >> 32),
                         static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32)}};
-    const Block128 r = philox4x32_10(ctr, k0, k1);
-    u[2 * half + 0] = to_unit_double((std::uint64_t(r.w[1]) << 32) | r.w[0]);
-    u[2 * half + 1] = to_unit_double((std::uint64_t(r.w[3]) << 32) | r.w[2]);
+  }
+  philox4x32_10_pair(r[0], r[1], k0, k1);  // the two blocks of counters 2 draw, 2 draw + 1
+  for (int half = 0; half < 2; ++half) {
+    u[2 * half + 0] = to_unit_double((std::uint64_t(r[half].w[1]) << 32) | r[half].w[0]);
+    u[2 * half + 1] = to_unit_double((std::uint64_t(r[half].w[3]) << 32) | r[half].w[2]);
   }
 }
 
