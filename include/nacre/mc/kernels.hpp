@@ -412,12 +412,10 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
   // slot's 11 numbers, a link's 2, a pose's 5): rows are then fixed-size blocks to transpose
   constexpr int rs = col(SlotCol::count), lsr = 2, ps = 5;
   static_assert(rs > 8 && rs <= 16 && ps <= 8, "transpose_rows moves a record in two blocks, a pose in one");
-  if (slot.stride(0) != std::size_t(rs) || link.stride(0) != std::size_t(lsr) || p.stride(0) != std::size_t(ps))
-    Kokkos::abort("nacre::mc::sweep_colour(BatchedTrials): padded model Views");
-  const double* rec = slot.data();
-  const int* lnk = link.data();
+  const double* rec = detail::rows_of<rs>(slot).p;  // rows_of checks the rows are unpadded
+  const int* lnk = detail::rows_of<lsr>(link).p;
   const std::uint8_t* kinds = skind.data();
-  const double* pose = p.data();
+  const double* pose = detail::rows_of<ps>(p).p;
   const double* cached = cache.data();
   const int groups = (end - begin + W - 1) / W;
   long accepted = 0;

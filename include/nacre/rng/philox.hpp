@@ -21,9 +21,7 @@ KOKKOS_INLINE_FUNCTION void mulhilo32(std::uint32_t a, std::uint32_t b, std::uin
   hi = static_cast<std::uint32_t>(p >> 32);
   lo = static_cast<std::uint32_t>(p);
 }
-}  // namespace detail
 
-namespace detail {
 inline constexpr std::uint32_t kPhiloxW0 = 0x9E3779B9u, kPhiloxW1 = 0xBB67AE85u;  ///< key schedule
 /// \brief One Philox4x32 round of ctr under the round key (k0, k1).
 KOKKOS_INLINE_FUNCTION void philox_round(Block128& ctr, std::uint32_t k0, std::uint32_t k1) {
