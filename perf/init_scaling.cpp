@@ -1,6 +1,12 @@
 // Initialisation time against specimen size (Fig. 2.9's O(N) claim): wall construction,
-// interface search, colouring and model upload, for 10k .. 1M bricks.
+// interface search, colouring and model upload, for 10k .. 1M bricks; and the dynamics model
+// (dyn::build_model: element types, tiles, interfaces, gather list) for BE and UE, with shared
+// element matrices and with one per element (--dyn 0 skips it). The tile build was once
+// quadratic in the number of types (one per element unshared: 11+ minutes at 1M BE bricks):
+// this is the check that it stays O(N).
 //   nacre_perf_init --bricks 10000,100000,1000000 --csv FILE
+#include <nacre/dyn/model.hpp>
+#include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/model.hpp>
 
@@ -23,11 +29,14 @@ int main(int argc, char* argv[]) {
   std::string csv = "init_scaling.csv";
   cli.add_option("--bricks", sizes)->delimiter(',');
   cli.add_option("--csv", csv);
+  bool dyn_models = true;
+  cli.add_option("--dyn", dyn_models, "also time dyn::build_model (BE, UE; shared and per-element matrices)");
   CLI11_PARSE(cli, static_cast<int>(aargs.size()), aargs.data());
   int kargc = static_cast<int>(kargs.size());
   Kokkos::ScopeGuard guard(kargc, kargs.data());
   std::ofstream out(csv);
-  out << "bricks,interfaces,specimen_s,interfaces_s,colouring_s,model_s,total_s\n";
+  out << "bricks,interfaces,specimen_s,interfaces_s,colouring_s,model_s,total_s,dyn_be_s,dyn_be_own_s,dyn_ue_s,"
+         "dyn_ue_own_s\n";
   using clk = std::chrono::steady_clock;
   auto since = [](clk::time_point t) { return std::chrono::duration<double>(clk::now() - t).count(); };
   for (long n : sizes) {
@@ -51,9 +60,30 @@ int main(int argc, char* argv[]) {
     auto m = mc::build_model(ExecSpace{}, s, f, adj, c, d.mortar, 4);
     Kokkos::fence();
     const double tm = since(t);
-    out << s.size() << "," << f.size() << "," << ts << "," << ti << "," << tc << "," << tm << "," << ts + ti + tc + tm << "\n";
+    out << s.size() << "," << f.size() << "," << ts << "," << ti << "," << tc << "," << tm << "," << ts + ti + tc + tm;
     std::cout << s.size() << " bricks, " << f.size() << " interfaces: " << ts + ti + tc + tm << " s (specimen " << ts
-              << ", interfaces " << ti << ", colouring " << tc << ", model " << tm << ")\n";
+              << ", interfaces " << ti << ", colouring " << tc << ", model " << tm << ")";
+    if (dyn_models) {
+      std::cout << "; dyn::build_model";
+      for (auto method : {dyn::Method::be, dyn::Method::ue})
+        for (bool share : {true, false}) {
+          dyn::Params p;
+          p.method = method;
+          p.dt = 1e-9;
+          p.share_element_matrices = share;
+          dyn::HostMap map;
+          t = clk::now();
+          auto dm = dyn::build_model(p, s, f, d.mortar, map);
+          Kokkos::fence();
+          const double td = since(t);
+          out << "," << td;
+          std::cout << " " << (method == dyn::Method::be ? "BE" : "UE") << (share ? "" : " own") << " " << td << " s";
+        }
+    } else {
+      out << ",,,,";
+    }
+    out << "\n";
+    std::cout << "\n";
   }
   return 0;
 }

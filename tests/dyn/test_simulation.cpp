@@ -6,6 +6,7 @@
 #include <catch2/matchers/catch_matchers_floating_point.hpp>
 
 #include <cmath>
+#include <vector>
 
 using namespace dyntest;
 using Catch::Matchers::WithinAbs;
@@ -84,4 +85,60 @@ TEST_CASE("dyn: element types are shared; bytes per brick with and without shari
     CHECK(own.element_types() == static_cast<int>(method == dyn::Method::be ? st.s.size() : 4 * st.s.size()));
     CHECK(shared.bytes() < own.bytes());
   }
+}
+
+// The tiled element apply's work list (build_model): every free element in exactly one tile,
+// a tile of at most kTile elements of one type, increasing, inside one window of kTileWindow
+// elements; tiles ordered by window, then type, then element, only the last tile of a (window,
+// type) run partial; driven elements listed apart, in order. With and without shared types
+// (unshared, every element its own type: the case whose tile build was quadratic).
+TEST_CASE("dyn: element tiles cover each free element once, one type per tile, window by window", "[dyn][model]") {
+  const auto st = make(wall(12, 20, 4));
+  for (auto method : {dyn::Method::be, dyn::Method::ue})
+    for (bool share : {true, false}) {
+      auto p = params(50, method);
+      p.dt = 1e-9;
+      p.share_element_matrices = share;
+      dyn::HostMap map;
+      const auto m = dyn::build_model(p, st.s, st.f, mortar(), map);
+      INFO((method == dyn::Method::be ? "BE" : "UE") << (share ? ", shared types" : ", own types") << ": "
+                                                     << m.n_elem << " elements, " << m.n_types << " types, "
+                                                     << m.n_tiles << " tiles");
+      const auto T = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.type);
+      const auto D = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.drive);
+      const auto TS = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.tile_start);
+      const auto TE = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.tile_elem);
+      const auto DR = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.driven);
+      REQUIRE(m.n_types > 1);
+      if (!share) REQUIRE(m.n_types == m.n_elem);
+      std::vector<int> seen(m.n_elem, 0);
+      bool ok = true;
+      for (int w = 0; w < m.n_tiles; ++w) {
+        const int b0 = TS(w), nb = TS(w + 1) - b0;
+        ok = ok && nb >= 1 && nb <= dyn::kTile;
+        const int e0 = TE(b0), win = e0 / dyn::kTileWindow;
+        for (int b = 0; b < nb; ++b) {
+          const int e = TE(b0 + b);
+          ++seen[e];
+          ok = ok && D(e) == 0 && T(e) == T(e0) && e / dyn::kTileWindow == win && (b == 0 || e > TE(b0 + b - 1));
+        }
+        if (w + 1 < m.n_tiles) {  // order against the next tile
+          const int f0 = TE(TS(w + 1)), wn = f0 / dyn::kTileWindow, last = TE(b0 + nb - 1);
+          const bool same_run = wn == win && T(f0) == T(e0);
+          ok = ok && (wn > win || (wn == win && T(f0) >= T(e0))) && (!same_run || (nb == dyn::kTile && f0 > last));
+        }
+      }
+      CHECK(ok);
+      int free_once = 0, driven = 0;
+      for (int e = 0; e < m.n_elem; ++e) {
+        if (D(e) == 0) free_once += seen[e] == 1;
+        else {
+          CHECK(seen[e] == 0);
+          REQUIRE(driven < m.n_driven);
+          CHECK(DR(driven++) == e);
+        }
+      }
+      CHECK(driven == m.n_driven);
+      CHECK(free_once + driven == m.n_elem);
+    }
 }

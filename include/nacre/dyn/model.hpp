@@ -36,6 +36,9 @@ inline constexpr int kMaxDof = 2 * kMaxNodes;
 /// Elements per work item of the tiled element apply (ElementApply::tiled) and of BIE's shared
 /// J^-1 product: 8 doubles = 4 SSE2 / 2 AVX2 / 1 AVX-512 register per accumulator row.
 inline constexpr int kTile = 8;
+/// Tiles are cut within windows of this many consecutive elements (a pass touches each cache
+/// line of the state once; UE's 4 triangles of a brick are 4 types).
+inline constexpr int kTileWindow = 8 * kTile;
 
 /// Gather-list entry: interface i (< kMaxGatherIface), side (0 a, 1 b), the side's local nodes n0, n1 (< 8).
 inline constexpr int kMaxGatherIface = 1 << 24;
@@ -79,7 +82,8 @@ struct Model {
   /// interface's force row and nothing else of it.
   Kokkos::View<int*, MemorySpace> goff, gent;
   /// Tiled element apply: work item w < n_tiles covers the free elements
-  /// tile_elem[tile_start(w) .. tile_start(w + 1)): at most kTile, one type, increasing;
+  /// tile_elem[tile_start(w) .. tile_start(w + 1)): at most kTile, one type, increasing, within
+  /// one window of kTileWindow elements; the windows in order, in a window the types in order;
   /// work item n_tiles + k the driven element driven(k) (per element: prescribed motion).
   Kokkos::View<int*, MemorySpace> tile_start, tile_elem, driven;
   int n_tiles = 0, n_driven = 0;
