@@ -305,6 +305,10 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  // Log lines reach a file or a pipe as they are written (a batch job's output file, `| tee`),
+  // not in 4 KiB blocks at the end: stdout line-buffered even when it is not a terminal
+  // (std::cout writes through stdio, sync_with_stdio is left on).
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};

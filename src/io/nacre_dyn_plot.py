@@ -3,7 +3,12 @@
 energy_force.png: energies against time, the energy-balance residual, and the reaction force
 against the applied displacement; crack.png: the deformed triangle mesh of the last dump (or of
 DUMP) coloured by each brick's vertical stress (Fig. 4.5), ruptured interfaces in black.
-Usage: nacre_dyn_plot.py OUTPUT_DIR [DUMP.h5] [--magnify M]"""
+Above RASTER_TRIANGLES triangles (or with --raster) the triangles are about the size of the
+picture's pixels and drawing them polygon by polygon costs a minute per million bricks: they
+are then rasterised directly (each pixel takes the stress of the triangle holding its centre;
+gaps and an open crack stay white) and shown as an image with the same colour scale, the
+ruptured interfaces drawn on top.
+Usage: nacre_dyn_plot.py OUTPUT_DIR [DUMP.h5] [--magnify M] [--raster]"""
 import csv
 import glob
 import os
@@ -14,6 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+
+RASTER_TRIANGLES = 200_000  # ~50k bricks: past this, polygons are sub-pixel at dpi 130
 
 
 def series(out):
@@ -47,7 +54,34 @@ def energy_force(out, s):
     plt.close(fig)
 
 
-def crack(out, dump, magnify=None, target=None):
+def raster_image(pts, conn, val, nx, ny, x0, x1, y0, y1):
+    """The triangles (nodes pts, connectivity conn) filled with val into an ny x nx image of
+    [x0, x1] x [y0, y1]: a pixel takes the value of a triangle holding its centre (NaN where
+    none does: gaps, an open crack). Vectorised over triangles, one pass per pixel offset
+    within a triangle's bounding box, so it is fast for sub-pixel to few-pixel triangles."""
+    img = np.full((ny, nx), np.nan)
+    if len(conn) == 0:
+        return img
+    gx = (pts[conn][:, :, 0] - x0) / ((x1 - x0) / nx) - 0.5  # pixel-centre coordinates: centre i at i
+    gy = (pts[conn][:, :, 1] - y0) / ((y1 - y0) / ny) - 0.5
+    i0, i1 = np.ceil(gx.min(1)).astype(np.int64), np.floor(gx.max(1)).astype(np.int64)
+    j0, j1 = np.ceil(gy.min(1)).astype(np.int64), np.floor(gy.max(1)).astype(np.int64)
+    ax_, ay, bx, by, cx, cy = gx[:, 0], gy[:, 0], gx[:, 1], gy[:, 1], gx[:, 2], gy[:, 2]
+    det = (bx - ax_) * (cy - ay) - (cx - ax_) * (by - ay)
+    ok = det != 0
+    det = np.where(ok, det, 1.0)
+    for di in range(max(0, int((i1 - i0).max()) + 1)):
+        for dj in range(max(0, int((j1 - j0).max()) + 1)):
+            i, j = i0 + di, j0 + dj
+            l1 = ((i - ax_) * (cy - ay) - (cx - ax_) * (j - ay)) / det
+            l2 = ((bx - ax_) * (j - ay) - (i - ax_) * (by - ay)) / det
+            m = ok & (i <= i1) & (j <= j1) & (i >= 0) & (i < nx) & (j >= 0) & (j < ny)
+            m &= (l1 >= 0) & (l2 >= 0) & (l1 + l2 <= 1)
+            img[j[m], i[m]] = val[m]
+    return img
+
+
+def crack(out, dump, magnify=None, target=None, raster=None):
     import h5py
     with h5py.File(os.path.join(out, "mesh.h5"), "r") as m, h5py.File(dump, "r") as d:
         conn = m["/triangles/connectivity"][:]
@@ -69,11 +103,22 @@ def crack(out, dump, magnify=None, target=None):
     lim = lim if lim > 0 else 1.0
     w = ref[:, 0].max() - ref[:, 0].min()
     h = ref[:, 1].max() - ref[:, 1].min()
-    fig, ax = plt.subplots(figsize=(min(14, 3 + 9 * w / max(h, w)), min(10, 1.5 + 9 * h / max(h, w))))
-    pc = PolyCollection(pts[conn], array=syy[tri_brick], cmap="RdBu_r", edgecolors="face", linewidths=0.3,
-                        clim=(-lim, lim))
-    ax.add_collection(pc)
-    fig.colorbar(pc, ax=ax, shrink=0.7, label="vertical stress per brick (N/mm²)")
+    figsize = (min(14, 3 + 9 * w / max(h, w)), min(10, 1.5 + 9 * h / max(h, w)))
+    fig, ax = plt.subplots(figsize=figsize)
+    if raster if raster is not None else len(conn) > RASTER_TRIANGLES:
+        x0, x1, y0, y1 = pts[:, 0].min(), pts[:, 0].max(), pts[:, 1].min(), pts[:, 1].max()
+        nx = int(0.8 * figsize[0] * 130)  # about the axes' width in pixels at dpi 130
+        ny = max(1, int(round(nx * (y1 - y0) / max(x1 - x0, 1e-300))))
+        img = raster_image(pts, conn, syy[tri_brick], nx, ny, x0, x1, y0, y1)
+        pc = ax.imshow(img, origin="lower", extent=(x0, x1, y0, y1), cmap="RdBu_r", vmin=-lim, vmax=lim,
+                       interpolation="nearest")
+        label = "vertical stress per brick (N/mm²)"
+    else:
+        pc = PolyCollection(pts[conn], array=syy[tri_brick], cmap="RdBu_r", edgecolors="face", linewidths=0.3,
+                            clim=(-lim, lim))
+        ax.add_collection(pc)
+        label = "vertical stress per brick (N/mm²)"
+    fig.colorbar(pc, ax=ax, shrink=0.7, label=label)
     nr = 0
     if ipts is not None and state is not None and len(state):
         ipts = iref + mag * (ipts - iref)
@@ -92,6 +137,7 @@ def crack(out, dump, magnify=None, target=None):
 
 def main(argv):
     args = [a for a in argv if not a.startswith("--")]
+    raster = True if "--raster" in argv else None
     mag = None
     if "--magnify" in argv:
         mag = float(argv[argv.index("--magnify") + 1])
@@ -105,7 +151,7 @@ def main(argv):
     dumps = sorted(glob.glob(os.path.join(out, "dump_*.h5")))
     dump = args[1] if len(args) > 1 else (dumps[-1] if dumps else None)
     if dump and os.path.exists(os.path.join(out, "mesh.h5")):
-        crack(out, dump, mag)
+        crack(out, dump, mag, raster=raster)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end test of a dynamic deck (tests/app/tiny_dynamic.toml):
-#  1. the run's outputs are consistent (check_dyn_outputs.py);
+#  1. the run's outputs are consistent (check_dyn_outputs.py); the crack picture's rasterised
+#     path (large meshes) gives exact pixels and a PNG (check_dyn_plot.py);
 #  2. a run restarted from its checkpoint to twice the end time equals a direct run bit for bit
 #     (every series.csv column but the wall time, and every checkpoint array);
 #  2b. a checkpoint of a deck with other physics is refused (exit 2), the directory untouched;
@@ -17,6 +18,7 @@ long_end=$(python3 -c "print(2 * $end)")
 # 1. outputs
 "$exe" "$deck" -o short -q
 python3 "$src/tests/app/check_dyn_outputs.py" short
+python3 "$src/tests/app/check_dyn_plot.py" "$src" short
 
 # 2. restart, bit for bit
 sed "s/^end_time = .*/end_time = $long_end/" "$deck" > long.toml
