@@ -104,6 +104,14 @@ TEST_CASE("out-of-range values are errors", "[deck]") {
   CHECK_THAT(error_of(base + "[solver]\nRTOL = 3\n"), StartsWith("deck.toml:16: solver.RTOL: value 3 out of range"));
   CHECK_THAT(error_of(base + "[solver]\nTEMP = -1\n"), ContainsSubstring("solver.TEMP: value -1 out of range"));
   CHECK_THAT(error_of(base + "[solver]\nAmpFactor = 2\n"), ContainsSubstring("1 (the only value the paper uses)"));
+  CHECK_THAT(error_of(base + "[output]\nheartbeat = -1\n"),
+             StartsWith("deck.toml:16: output.heartbeat: value -1 out of range; expected seconds >= 0 (0: none)"));
+}
+
+TEST_CASE("output.heartbeat: default 60 s, 0 switches it off", "[deck]") {
+  CHECK(parse_deck_string(base, "deck.toml").output.heartbeat == 60.0);
+  CHECK(parse_deck_string(base + "[output]\nheartbeat = 0\n", "deck.toml").output.heartbeat == 0.0);
+  CHECK(parse_deck_string(base + "[output]\nheartbeat = 5\n", "deck.toml").output.heartbeat == 5.0);
 }
 
 TEST_CASE("inconsistent values are errors", "[deck]") {

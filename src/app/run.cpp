@@ -216,19 +216,33 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   SignalGuard signals;
   solver.should_stop = [] { return pending_signal() != 0; };
   const bool progress = opt.tty && d.output.progress && !opt.quiet;
+  // off a terminal: a plain log line at most every [output] heartbeat seconds within a step
+  const bool heartbeat = !opt.tty && log && d.output.heartbeat > 0;
   int current_step = 0;
   const double t_run = elapsed();
+  double last_line = t_run;
   bool step_done = false;  // the line names the step in progress, or the one just finished
   auto progress_line = [&](long cycles, double energy) {
+    const double now = elapsed();
+    if (!step_done && now - last_line < 0.25) return;  // the solver calls after every cycle
+    last_line = now;
     const double frac = solver.load() / d.load.final_displacement;
-    const double spent = elapsed() - t_run;
+    const double spent = now - t_run;
     const double left = frac > 0 ? spent / frac - spent : -1;
     std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ",
                  step_done ? current_step : current_step + 1,
                  solver.load(), d.load.final_displacement, cycles, energy, hms(spent).c_str(), hms(left).c_str());
     std::fflush(stderr);
   };
+  auto heartbeat_line = [&](long cycles, double energy) {
+    const double now = elapsed();
+    if (now - last_line < d.output.heartbeat) return;
+    last_line = now;
+    *log << "  step " << current_step + 1 << " in progress: D = " << solver.load() << ", " << cycles
+         << " cycles, E = " << energy << ", elapsed " << hms(now - t_run) << "\n";
+  };
   if (progress) solver.on_progress = progress_line;
+  else if (heartbeat) solver.on_progress = heartbeat_line;
   auto dump = [&](int step) {
     writer.dump(mc::snapshot(solver, specimen, interfaces, step));
     io::write_checkpoint(checkpoint_path, last);
@@ -244,12 +258,13 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
       step_done = true;
       progress_line(r.cycles, r.energy);
       step_done = false;
-    }
-    else if (log)
+    } else if (log) {
+      last_line = elapsed();
       *log << "  step " << r.step << ": D = " << r.displacement << ", E = " << r.energy << ", F = " << r.reaction
            << ", " << r.cycles << " cycles" << (r.converged ? "" : " (not converged)") << ", acceptance "
            << r.acceptance << ", ruptured " << r.ruptured << ", residual " << r.residual << " (" << r.polish_iterations
            << " polish iterations)\n";
+    }
   });
   if (progress) std::fprintf(stderr, "\n");
   if (solver.interrupted()) {

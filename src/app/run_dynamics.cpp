@@ -281,6 +281,9 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
 
   SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
   double last_flush = elapsed(), last_progress = -1;
+  // off a terminal: a plain log line at most every [output] heartbeat seconds between dumps
+  const bool heartbeat = !tty && log && d.output.heartbeat > 0;
+  double last_line = elapsed();
   const Kokkos::DefaultExecutionSpace space;
   long step = sim.steps();
   while (step < total) {
@@ -307,13 +310,25 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
         return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
       writer.dump(step, snap, c);
       last_flush = elapsed();
-      if (log && !progress)
+      if (log && !progress) {
+        last_line = elapsed();
         *log << "  step " << step << "/" << total << ": t = " << r.time << " s, D = " << r.displacement
              << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
              << ", ruptured " << r.ruptured << "\n";
-    } else if (elapsed() - last_flush > 2.0) {
-      writer.flush_series();
-      last_flush = elapsed();
+      }
+    } else {
+      if (elapsed() - last_flush > 2.0) {
+        writer.flush_series();
+        last_flush = elapsed();
+      }
+      if (heartbeat && elapsed() - last_line >= d.output.heartbeat) {
+        last_line = elapsed();
+        const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
+        const double spent = elapsed() - t_run;
+        *log << "  step " << step << "/" << total << " in progress: t = " << r.time << " s, D = " << r.displacement
+             << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent) << ", left ~"
+             << hms(frac > 0 ? spent / frac - spent : -1) << "\n";
+      }
     }
     if (const int sig = pending_signal(); sig != 0 && step < total) {
       if (progress) std::fprintf(stderr, "\n");

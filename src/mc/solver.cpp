@@ -338,7 +338,7 @@ long Solver::mc_phase(long budget, bool& window_converged) {
       window_converged = true;
       break;
     }
-    if (on_progress && c % 1000 == 0) on_progress(c, E_);
+    if (on_progress) on_progress(c, E_);  // every cycle: the caller throttles by time
     if (cycle_limit_ > 0 && c >= cycle_limit_) break;
     if (should_stop && should_stop()) {
       interrupted_ = true;

@@ -10,6 +10,17 @@ sed 's/^final_displacement = .*/final_displacement = 0.024/' "$src/tests/app/tin
 python3 "$src/tests/app/check_outputs.py" short
 "$exe" long.toml -o short -q --restart short/checkpoint.h5 --extend
 "$exe" long.toml -o direct -q
+# Off a terminal (stdout to a file, as in a batch job), [output] heartbeat: plain "in progress"
+# lines within a load step (here as often as possible); heartbeat = 0: none. Lines are
+# line-buffered, so the file holds them while the run goes on.
+sed 's/^DumpInter = .*/DumpInter = 0\nheartbeat = 1e-9\ncharts = false/' "$src/tests/app/tiny.toml" > beat.toml
+"$exe" beat.toml -o beat > beat.log 2>&1
+grep -q "^  step 1 in progress: D = .* cycles, E = " beat.log || { cat beat.log; echo "FAIL: no heartbeat line"; exit 1; }
+sed 's/^heartbeat = .*/heartbeat = 0/' beat.toml > quiet_beat.toml
+"$exe" quiet_beat.toml -o beat0 > beat0.log 2>&1
+if grep -q "in progress" beat0.log; then echo "FAIL: heartbeat = 0 still wrote heartbeat lines"; exit 1; fi
+grep -q "^  step 1: D = " beat0.log || { cat beat0.log; echo "FAIL: no step line"; exit 1; }
+echo "heartbeat: $(grep -c 'in progress' beat.log) lines within steps at heartbeat 1e-9, none at 0"
 # every column but the wall time must agree exactly
 if ! diff <(cut -d, -f1-12 short/steps.csv) <(cut -d, -f1-12 direct/steps.csv); then
   echo "FAIL: restarted run differs from the direct run"; exit 1

@@ -19,6 +19,10 @@ long_end=$(python3 -c "print(2 * $end)")
 "$exe" "$deck" -o short -q
 python3 "$src/tests/app/check_dyn_outputs.py" short
 python3 "$src/tests/app/check_dyn_plot.py" "$src" short
+# off a terminal, [output] heartbeat: "in progress" lines between dumps (every chunk at 1e-9)
+sed 's/^directory = .*/directory = "beat"\nheartbeat = 1e-9\ncharts = false/' "$deck" > beat.toml
+"$exe" beat.toml > beat.log 2>&1
+grep -q "^  step 25/600 in progress: t = " beat.log || { cat beat.log; echo "FAIL: no heartbeat line"; exit 1; }
 
 # 2. restart, bit for bit
 sed "s/^end_time = .*/end_time = $long_end/" "$deck" > long.toml

@@ -100,6 +100,10 @@ struct Output {
   bool hdf5 = true;
   bool charts = true;
   bool progress = true;
+  /// Off a terminal (a batch job's output file, a pipe): a plain log line at most every this
+  /// many seconds while a load step or the time stepping runs (0: none; the lines at completed
+  /// steps and dumps are written regardless).
+  double heartbeat = 60.0;
 };
 
 /// \brief Limits of what a deck may ask for, checked from estimates before anything is built

@@ -11,7 +11,8 @@ void read_output(Section& top, Deck& d) {
   o.boolean("hdf5", O.hdf5);
   o.boolean("charts", O.charts);
   o.boolean("progress", O.progress);
-  o.reject_unknown({"directory", "dump_interval (DumpInter)", "hdf5", "charts", "progress"});
+  o.number("heartbeat", {}, O.heartbeat, [](double v) { return v >= 0 && v <= 1e9; }, "seconds >= 0 (0: none)");
+  o.reject_unknown({"directory", "dump_interval (DumpInter)", "hdf5", "charts", "progress", "heartbeat"});
 }
 
 }  // namespace nacre::deck::detail
