@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #ifndef NACRE_PLOT_SCRIPT
 #define NACRE_PLOT_SCRIPT ""
@@ -284,6 +285,12 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   // off a terminal: a plain log line at most every [output] heartbeat seconds between dumps
   const bool heartbeat = !tty && log && d.output.heartbeat > 0;
   double last_line = elapsed();
+  // time spent since the run (re)started and the estimate of what is left, from the steps done
+  auto spent_left = [&](long step) {
+    const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
+    const double spent = elapsed() - t_run;
+    return std::pair{spent, frac > 0 ? spent / frac - spent : -1.0};
+  };
   const Kokkos::DefaultExecutionSpace space;
   long step = sim.steps();
   while (step < total) {
@@ -323,11 +330,10 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       }
       if (heartbeat && elapsed() - last_line >= d.output.heartbeat) {
         last_line = elapsed();
-        const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
-        const double spent = elapsed() - t_run;
+        const auto [spent, left] = spent_left(step);
         *log << "  step " << step << "/" << total << " in progress: t = " << r.time << " s, D = " << r.displacement
              << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent) << ", left ~"
-             << hms(frac > 0 ? spent / frac - spent : -1) << "\n";
+             << hms(left) << "\n";
       }
     }
     if (const int sig = pending_signal(); sig != 0 && step < total) {
@@ -349,11 +355,10 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     }
     if (progress && (elapsed() - last_progress > 0.25 || step == total)) {
       last_progress = elapsed();
-      const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
-      const double spent = elapsed() - t_run;
+      const auto [spent, left] = spent_left(step);
       std::fprintf(stderr, "\r  step %ld/%ld  t %.4g/%.4g s  D %.4g  F %.4g  ruptured %d  elapsed %s  left ~%s   ",
                    step, total, r.time, D.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
-                   hms(frac > 0 ? spent / frac - spent : -1).c_str());
+                   hms(left).c_str());
       std::fflush(stderr);
     }
   }

@@ -112,13 +112,11 @@ def crack(out, dump, magnify=None, target=None, raster=None):
         img = raster_image(pts, conn, syy[tri_brick], nx, ny, x0, x1, y0, y1)
         pc = ax.imshow(img, origin="lower", extent=(x0, x1, y0, y1), cmap="RdBu_r", vmin=-lim, vmax=lim,
                        interpolation="nearest")
-        label = "vertical stress per brick (N/mm²)"
     else:
         pc = PolyCollection(pts[conn], array=syy[tri_brick], cmap="RdBu_r", edgecolors="face", linewidths=0.3,
                             clim=(-lim, lim))
         ax.add_collection(pc)
-        label = "vertical stress per brick (N/mm²)"
-    fig.colorbar(pc, ax=ax, shrink=0.7, label=label)
+    fig.colorbar(pc, ax=ax, shrink=0.7, label="vertical stress per brick (N/mm²)")
     nr = 0
     if ipts is not None and state is not None and len(state):
         ipts = iref + mag * (ipts - iref)

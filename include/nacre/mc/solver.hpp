@@ -120,8 +120,9 @@ public:
   void restore(const Checkpoint& c);
   [[nodiscard]] const RunState& run_state() const { return run_; }
 
-  /// \brief Called every ~1000 cycles inside a step with (cycles so far, energy) for progress.
-  std::function<void(long, double)> on_progress;  ///< (cycles of this step, energy) after every cycle
+  /// \brief Called after every cycle inside a step with (cycles so far, energy), for progress
+  /// (the caller throttles by time).
+  std::function<void(long, double)> on_progress;
   /// \brief Asked after every cycle (e.g. a signal flag); true abandons the load step in
   /// progress and returns from run() with interrupted() set. The state is then mid-step: resume
   /// from a checkpoint taken after the last completed step.
