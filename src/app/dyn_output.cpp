@@ -56,7 +56,7 @@ std::string first_non_finite(const dyn::Snapshot& s) {
 
 std::string DynWriter::csv_header() {
   return "step,time,displacement,strain_energy,kinetic_energy,cohesive_energy,damping_dissipated,external_work,"
-         "balance_residual,reaction,ruptured,seconds\n";
+         "balance_residual,reaction,ruptured,dt,critical_estimate,seconds\n";
 }
 
 DynWriter::DynWriter(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
@@ -172,7 +172,8 @@ void DynWriter::row(const SeriesRow& r) {
   const auto& e = r.e;
   csv_ += std::to_string(r.step) + "," + num(r.time) + "," + num(r.displacement) + "," + num(e.strain) + "," +
           num(e.kinetic) + "," + num(e.cohesive) + "," + num(e.damping_dissipated) + "," + num(e.external_work) + "," +
-          num(e.balance_residual) + "," + num(r.reaction) + "," + std::to_string(r.ruptured) + "," + num(r.seconds) +
+          num(e.balance_residual) + "," + num(r.reaction) + "," + std::to_string(r.ruptured) + "," + num(r.dt) + "," +
+          num(r.critical_estimate) + "," + num(r.seconds) +
           "\n";
   ++rows_;
 }

@@ -27,6 +27,8 @@ struct SeriesRow {
   dyn::Energies e;
   double reaction = 0;
   int ruptured = 0;
+  double dt = 0;                 ///< step in use (the adaptive mode changes it)
+  double critical_estimate = 0;  ///< the stability monitor's estimated critical step at the last check
   double seconds = 0;
 };
 

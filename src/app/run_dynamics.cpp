@@ -34,6 +34,11 @@ namespace {
 /// Bisection settings of the critical step (docs/dynamics.md states the criterion).
 constexpr long critical_trial_steps = 2000;
 constexpr double critical_rtol = 0.01;
+/// Element growth check (docs/dynamics.md "Stability monitor"): stable runs measured (the README
+/// decks, rotated walls, compression, a 50 m/s impact) show at most 5 checks in a row of a share
+/// growing 1.5x, 3 of one growing 2x or 3x; a stop needs 6 in a row of 3x (729x in 192 steps).
+constexpr double kGrowthFactor = 3.0;
+constexpr int kGrowthChecks = 6;
 
 const char* method_name(dyn::Method m) { return m == dyn::Method::ue ? "ue" : (m == dyn::Method::bie ? "bie" : "be"); }
 
@@ -41,6 +46,20 @@ std::string num(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.10g", v);
   return b;
+}
+
+/// A JSON string literal of s (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& s) {
+  std::string o = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      o += b;
+    } else o += c;
+  }
+  return o + "\"";
 }
 
 struct Setup {
@@ -135,33 +154,58 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   p.thermal_strain = D.thermal_strain;
   p.force_top = D.force_top;
   p.share_element_matrices = D.share_element_matrices;
+  // the stability monitor, all on (docs/dynamics.md "Stability monitor")
+  p.balance_tolerance = D.balance_tolerance;
+  p.growth_factor = kGrowthFactor, p.growth_checks = kGrowthChecks;
+  p.step_check = true;
+  p.dt_mode = D.dt_mode == "adaptive" ? dyn::DtMode::adaptive : dyn::DtMode::fixed;
+  p.sliver_step_ratio = D.sliver_step_ratio;
   return p;
+}
+
+/// The stability monitor's estimate of the critical step at the start (monitor.hpp StepBound),
+/// and the elements it scaled: a Simulation built at the model's own start estimate.
+dyn::StepReport estimated_step(const dyn::Params& p, const Setup& s, const deck::Deck& d) {
+  Kokkos::Profiling::ScopedRegion region("nacre::app::estimated_step");
+  dyn::Params q = p;
+  if (!(q.dt > 0)) q.dt = 1e-9;  // any positive step: the bound does not depend on it
+  dyn::Simulation sim(q, s.specimen, s.interfaces, d.mortar);
+  return sim.step_check();
 }
 
 int print_critical_step(const deck::Deck& d, bool quiet) {
   const Setup s = build(d);
   dyn::Params p = dynamics_params(d, s.specimen.size());
   p.dt = 0;
+  const dyn::StepReport est = estimated_step(p, s, d);
   const double h = dyn::critical_step(p, s.specimen, s.interfaces, d.mortar, critical_trial_steps, critical_rtol);
-  if (!std::isfinite(h) || h <= 0) {
-    std::cerr << "nacre: error: critical step search failed (" << h << ")\n";
+  if (!std::isfinite(h) || h <= 0 || !(est.estimate > 0)) {
+    std::cerr << "nacre: error: critical step search failed (bisected " << h << ", estimated " << est.estimate << ")\n";
     return 1;
   }
   if (quiet) {
-    std::printf("%.6g\n", h);
+    std::printf("%.6g\n", est.estimate);
     return 0;
   }
   std::printf("nacre: %s: %zu bricks, method %s%s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
               d.path.c_str(), s.specimen.size(), method_name(p.method), scheme_label(p), p.youngs_modulus,
               d.dynamics.ratio(), p.alpha_d, p.beta_d);
-  std::printf("critical step: %.6g s (relative tolerance %g: bisection over %ld-step trials from rest under the "
-              "deck's load)\n",
-              h, critical_rtol, critical_trial_steps);
+  std::printf("critical step: %.6g s (estimated: 2 / sqrt of the largest element eigenvalue of M^-1 K plus the "
+              "interfaces' Gershgorin bound%s, at brick %d; what the run's dt_fraction and monitor use)\n",
+              est.estimate, p.method == dyn::Method::bie ? " (BIE: interfaces only, the explicit part)" : "", est.brick);
+  std::printf("bisected step: %.6g s (relative tolerance %g: %ld-step trials from rest under the deck's load, "
+              "finite with the balance within %g) = %.3f x the estimate%s\n",
+              h, critical_rtol, critical_trial_steps, p.balance_tolerance, h / est.estimate,
+              h < est.estimate ? "; BELOW the estimate: keep dt under the bisected step"
+                               : (h > 1.05 * est.estimate ? "; above it: a trial from rest does not excite every "
+                                                            "mode (a weakly unstable damped one grows too slowly "
+                                                            "to be seen in it)"
+                                                          : ""));
   if (d.dynamics.dt > 0)
-    std::printf("deck dt = %.6g s = %.3f x critical%s\n", d.dynamics.dt, d.dynamics.dt / h,
-                d.dynamics.dt > h ? " (ABOVE the critical step: the run will blow up)" : "");
+    std::printf("deck dt = %.6g s = %.3f x critical%s\n", d.dynamics.dt, d.dynamics.dt / est.estimate,
+                d.dynamics.dt > est.estimate ? " (ABOVE the critical step: the run stops at its first check)" : "");
   else
-    std::printf("deck dt_fraction = %g: dt = %.6g s\n", d.dynamics.dt_fraction, d.dynamics.dt_fraction * h);
+    std::printf("deck dt_fraction = %g: dt = %.6g s\n", d.dynamics.dt_fraction, d.dynamics.dt_fraction * est.estimate);
   return 0;
 }
 
@@ -184,26 +228,36 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
          << " threads\n";
 
   DynCheckpoint cp;
-  double h_crit = 0;
+  double h_crit = 0;  // the estimated critical step a dt_fraction deck took its dt from
   if (!restart.empty()) {
     cp = DynWriter::read_checkpoint(restart, d);
     if (cp.method != method_name(p.method))
       throw std::runtime_error(restart + ": checkpoint of method " + cp.method + ", the deck says " +
                                method_name(p.method));
     p.dt = cp.dt;  // the run continues with the step it started with
-  } else if (D.dt <= 0) {
-    Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
-    h_crit = dyn::critical_step(p, specimen, interfaces, d.mortar, critical_trial_steps, critical_rtol);
-    if (!std::isfinite(h_crit) || h_crit <= 0)
-      throw std::runtime_error("critical step search failed (" + num(h_crit) + ")");
-    p.dt = D.dt_fraction * h_crit;
-    if (log)
-      *log << "nacre: critical step " << h_crit << " s (rtol " << critical_rtol << "), dt = " << D.dt_fraction
-           << " x = " << p.dt << " s (" << elapsed() << " s)\n";
   }
-  const long total = std::max(1L, static_cast<long>(std::ceil(D.end_time / p.dt - 1e-9)));
-
+  const bool from_fraction = restart.empty() && D.dt <= 0;
+  if (from_fraction) p.dt = 1e-9;  // replaced below, before the first step
   dyn::Simulation sim(p, specimen, interfaces, d.mortar);
+  if (from_fraction) {
+    h_crit = sim.step_report().estimate;
+    if (!std::isfinite(h_crit) || h_crit <= 0)
+      throw std::runtime_error("critical step estimate failed (" + num(h_crit) + ")");
+    p.dt = D.dt_fraction * h_crit;
+    sim.set_initial_dt(p.dt);
+    if (log)
+      *log << "nacre: estimated critical step " << h_crit << " s, dt = " << D.dt_fraction << " x = " << p.dt << " s ("
+           << elapsed() << " s)\n";
+  }
+  // fixed dt: the step count is known; adaptive: the run ends at end_time (the count is an estimate)
+  const bool adaptive = p.dt_mode == dyn::DtMode::adaptive;
+  const long fixed_total = std::max(1L, static_cast<long>(std::ceil(D.end_time / p.dt - 1e-9)));
+  auto finished = [&] { return adaptive ? sim.time() >= D.end_time * (1 - 1e-12) : sim.steps() >= fixed_total; };
+  auto total_now = [&] {
+    if (!adaptive) return fixed_total;
+    return sim.steps() + std::max(0L, static_cast<long>(std::ceil((D.end_time - sim.time()) / sim.dt() - 1e-9)));
+  };
+  const long total = total_now();
   if (!restart.empty()) {
     sim.restore_state(cp.state);
     if (sim.steps() != cp.step)
@@ -214,6 +268,12 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   if (log)
     *log << "nacre: dt = " << p.dt << " s, " << total << " steps to t = " << D.end_time << " s; "
          << sim.element_types() << " element types, " << sim.bytes() / 1048576.0 << " MiB on the device\n";
+  if (log && sim.sliver_elements() > 0)
+    *log << "nacre: " << sim.sliver_elements() << " sliver elements (step bound below " << p.sliver_step_ratio
+         << " of the median element's) mass-scaled: +" << 100 * sim.sliver_mass_added() << " % of the specimen's mass\n";
+  if (log)
+    *log << "nacre: stability monitor: balance within " << D.balance_tolerance << ", dt " << (adaptive ? "adaptive" : "fixed")
+         << ", estimated critical step " << sim.step_report().estimate << " s at the start\n";
 
   DynWriter writer(d, specimen, interfaces, sim.snapshot(), restart.empty() ? -1 : cp.step);
   auto make_row = [&] {
@@ -224,6 +284,8 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     r.e = sim.energies();
     r.reaction = sim.reaction();
     r.ruptured = sim.ruptured();
+    r.dt = sim.dt();
+    r.critical_estimate = sim.step_report().estimate;
     r.seconds = elapsed();
     return r;
   };
@@ -239,17 +301,29 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   const double t_run = elapsed();
   const long step0 = sim.steps();
   std::string status = "done", why;
+  double worst_balance = 0;  // the largest |balance residual| of the rows written
   const bool progress = tty && d.output.progress && !quiet;
 
   auto summary = [&] {
     std::ostringstream j;
-    j << "{\n  \"deck\": \"" << d.path << "\",\n  \"solver\": \"dynamics\",\n  \"method\": \"" << method_name(p.method)
+    j << "{\n  \"deck\": " << json_string(d.path) << ",\n  \"solver\": \"dynamics\",\n  \"method\": \"" << method_name(p.method)
       << "\",\n  \"bie_scheme\": " << (p.method == dyn::Method::bie ? (p.bie_scheme == dyn::BieScheme::split ? "\"split\"" : "\"iterate\"") : "null")
       << ",\n  \"status\": \"" << status << "\",\n  \"bricks\": " << specimen.size()
       << ",\n  \"interfaces\": " << interfaces.size() << ",\n  \"element_types\": " << sim.element_types()
       << ",\n  \"device_bytes\": " << sim.bytes() << ",\n  \"youngs_modulus\": " << num(p.youngs_modulus)
       << ",\n  \"stiffness_ratio\": " << num(D.ratio()) << ",\n  \"alpha_d\": " << num(p.alpha_d)
       << ",\n  \"beta_d\": " << num(p.beta_d) << ",\n  \"dt\": " << num(p.dt)
+      << ",\n  \"dt_mode\": \"" << (adaptive ? "adaptive" : "fixed") << "\",\n  \"dt_final\": " << num(sim.dt())
+      << ",\n  \"dt_changes\": " << sim.step_report().dt_changes
+      << ",\n  \"critical_estimate\": " << num(sim.step_report().estimate)
+      << ",\n  \"step_bound_start\": " << num(sim.step_report().bound_start)
+      << ",\n  \"controlling_brick\": " << sim.step_report().brick
+      << ",\n  \"growth_longest_run\": " << sim.step_report().growth_longest
+      << ",\n  \"balance_tolerance\": " << num(D.balance_tolerance)
+      << ",\n  \"worst_balance_residual\": " << num(worst_balance)
+      << ",\n  \"sliver_step_ratio\": " << num(p.sliver_step_ratio) << ",\n  \"sliver_elements\": " << sim.sliver_elements()
+      << ",\n  \"sliver_mass_added\": " << num(sim.sliver_mass_added())
+      << ",\n  \"why\": " << (why.empty() ? std::string("null") : json_string(why))
       << ",\n  \"critical_step\": " << (h_crit > 0 ? num(h_crit) : "null") << ",\n  \"steps\": " << sim.steps()
       << ",\n  \"time\": " << num(sim.time()) << ",\n  \"end_time\": " << num(D.end_time)
       << ",\n  \"ruptured\": " << sim.ruptured() << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency()
@@ -275,6 +349,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     const SeriesRow r = make_row();
     if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
     writer.row(r);
+    worst_balance = std::abs(r.e.balance_residual);
     const dyn::Snapshot snap = sim.snapshot();
     if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
     writer.dump(0, snap, checkpoint());
@@ -287,14 +362,15 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   double last_line = elapsed();
   // time spent since the run (re)started and the estimate of what is left, from the steps done
   auto spent_left = [&](long step) {
-    const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total - step0));
+    const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total_now() - step0));
     const double spent = elapsed() - t_run;
     return std::pair{spent, frac > 0 ? spent / frac - spent : -1.0};
   };
   const Kokkos::DefaultExecutionSpace space;
   long step = sim.steps();
-  while (step < total) {
-    long next = std::min(total, (step / D.csv_interval + 1) * D.csv_interval);
+  while (!finished()) {
+    const long total_est = total_now();
+    long next = std::min(total_est, (step / D.csv_interval + 1) * D.csv_interval);
     if (D.dump_interval > 0) next = std::min(next, (step / D.dump_interval + 1) * D.dump_interval);
     bool ok;
     {
@@ -306,8 +382,13 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     const SeriesRow r = make_row();
     if (auto q = non_finite(r); !q.empty())
       return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+    // the solver checked this state (advance); a row is written only when its books close
+    if (D.balance_tolerance > 0 && !(std::abs(r.e.balance_residual) <= D.balance_tolerance))
+      return unstable("step " + std::to_string(step) + " (t = " + num(r.time) + " s): energy balance residual " +
+                      num(r.e.balance_residual) + " exceeds balance_tolerance " + num(D.balance_tolerance));
     writer.row(r);
-    const bool dump = step == total || (D.dump_interval > 0 && step % D.dump_interval == 0);
+    worst_balance = std::max(worst_balance, std::abs(r.e.balance_residual));
+    const bool dump = finished() || (D.dump_interval > 0 && step % D.dump_interval == 0);
     if (dump) {
       const dyn::Snapshot snap = sim.snapshot();
       if (auto q = first_non_finite(snap); !q.empty())
@@ -319,7 +400,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       last_flush = elapsed();
       if (log && !progress) {
         last_line = elapsed();
-        *log << "  step " << step << "/" << total << ": t = " << r.time << " s, D = " << r.displacement
+        *log << "  step " << step << "/" << total_now() << ": t = " << r.time << " s, D = " << r.displacement
              << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
              << ", ruptured " << r.ruptured << "\n";
       }
@@ -331,12 +412,12 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       if (heartbeat && elapsed() - last_line >= d.output.heartbeat) {
         last_line = elapsed();
         const auto [spent, left] = spent_left(step);
-        *log << "  step " << step << "/" << total << " in progress: t = " << r.time << " s, D = " << r.displacement
+        *log << "  step " << step << "/" << total_now() << " in progress: t = " << r.time << " s, D = " << r.displacement
              << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent) << ", left ~"
              << hms(left) << "\n";
       }
     }
-    if (const int sig = pending_signal(); sig != 0 && step < total) {
+    if (const int sig = pending_signal(); sig != 0 && !finished()) {
       if (progress) std::fprintf(stderr, "\n");
       if (!dump) {  // the rows so far are written; the checkpoint holds this completed step
         DynCheckpoint c = checkpoint();
@@ -353,11 +434,11 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
                 << " --restart " << (writer.directory() / "checkpoint.h5").string() << "\n";
       return 128 + sig;
     }
-    if (progress && (elapsed() - last_progress > 0.25 || step == total)) {
+    if (progress && (elapsed() - last_progress > 0.25 || finished())) {
       last_progress = elapsed();
       const auto [spent, left] = spent_left(step);
       std::fprintf(stderr, "\r  step %ld/%ld  t %.4g/%.4g s  D %.4g  F %.4g  ruptured %d  elapsed %s  left ~%s   ",
-                   step, total, r.time, D.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
+                   step, total_now(), r.time, D.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
                    hms(left).c_str());
       std::fflush(stderr);
     }

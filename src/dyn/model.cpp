@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <cmath>
 #include <unordered_map>
@@ -143,10 +145,68 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   const int nd = 2 * max_nodes;
   m.n_elem = ne, m.nd = nd, m.n_types = nt;
 
+  // ---- slivers (docs/dynamics.md "Slivers"): selective mass scaling of the element types whose
+  // largest eigenvalue of M_e^-1 K_e exceeds the median free element's by more than
+  // 1 / sliver_step_ratio^2 (a clipped sliver, or a whole brick with a near-degenerate fan
+  // triangle where the clip cut a corner by a hair). The nodes that carry the offending mode get
+  // heavier until the element's step bound is sliver_step_ratio times the median element's:
+  // one element no longer sets the step of the whole specimen, at a mass cost that is reported.
+  {
+    auto lam_of = [](const ElementMatrices& e, Eigen::VectorXd* mode) {
+      const Eigen::VectorXd r = e.mass.cwiseSqrt().cwiseInverse();
+      const Eigen::MatrixXd S = r.asDiagonal() * e.K * r.asDiagonal();
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S);
+      const int top = static_cast<int>(S.rows()) - 1;
+      if (mode) *mode = r.asDiagonal() * es.eigenvectors().col(top);
+      return es.eigenvalues()(top);
+    };
+    std::vector<double> lam_t(types.size());
+    for (std::size_t t = 0; t < types.size(); ++t) lam_t[t] = lam_of(types[t], nullptr);
+    std::vector<double> lam_free;
+    for (std::size_t e = 0; e < map.elem_brick.size(); ++e)
+      if (s.drive[map.elem_brick[e]] == geometry::Drive::free) lam_free.push_back(lam_t[map.elem_type[e]]);
+    double mass_before = 0, mass_after = 0;
+    std::vector<char> scaled(types.size(), 0);
+    std::vector<double> type_mass0(types.size());
+    for (std::size_t t = 0; t < types.size(); ++t) type_mass0[t] = types[t].mass.sum();
+    if (p.sliver_step_ratio > 0 && !lam_free.empty()) {
+      std::nth_element(lam_free.begin(), lam_free.begin() + lam_free.size() / 2, lam_free.end());
+      const double target = lam_free[lam_free.size() / 2] / (p.sliver_step_ratio * p.sliver_step_ratio);
+      for (std::size_t t = 0; t < types.size(); ++t) {
+        auto& e = types[t];
+        for (int it = 0; it < 64 && lam_t[t] > target * (1 + 1e-9); ++it) {
+          Eigen::VectorXd x;
+          lam_t[t] = lam_of(e, &x);
+          if (lam_t[t] <= target * (1 + 1e-9)) break;
+          // kinetic share of the mode per node; the nodes holding >= 10 % of the largest share
+          std::vector<double> share(e.nodes);
+          double top = 0;
+          for (int j = 0; j < e.nodes; ++j)
+            top = std::max(top, share[j] = e.mass(2 * j) * x(2 * j) * x(2 * j) + e.mass(2 * j + 1) * x(2 * j + 1) * x(2 * j + 1));
+          const double f = std::min(4.0, lam_t[t] / target);
+          for (int j = 0; j < e.nodes; ++j)
+            if (share[j] >= 0.1 * top) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f;
+          scaled[t] = 1;
+        }
+      }
+    }
+    m.sliver_types = static_cast<int>(std::count(scaled.begin(), scaled.end(), 1));
+    for (std::size_t e = 0; e < map.elem_brick.size(); ++e) {
+      const int t = map.elem_type[e];
+      const double me = types[t].mass.sum();
+      mass_after += me;
+      mass_before += type_mass0[t];
+      if (scaled[t]) ++m.sliver_elements;
+    }
+    m.sliver_mass_added = mass_before > 0 ? (mass_after - mass_before) / mass_before : 0.0;
+  }
+
   // ---- type tables: K, (M + h/2 C)^-1, mass, Theta, node positions; element step estimate
   m.K = alloc<Model<>::TypeMat>("K", nt, nd, nd);
   m.Ainv = alloc<Model<>::TypeMat>("Ainv", nt, nd, nd);
   m.mass = alloc<Model<>::Dof>("mass", nt, nd);
+  m.klam = alloc<Kokkos::View<double*>>("klam", nt);
+  std::vector<double> lam(nt, 0.0);
   m.theta = alloc<Model<>::Dof>("theta", nt, nd);
   m.node_x = alloc<Model<>::Dof>("node_x", nt, kMaxNodes);
   m.node_y = alloc<Model<>::Dof>("node_y", nt, kMaxNodes);
@@ -155,6 +215,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     auto K = Kokkos::create_mirror_view(m.K);
     auto A = Kokkos::create_mirror_view(m.Ainv);
     auto M = Kokkos::create_mirror_view(m.mass);
+    auto KL = Kokkos::create_mirror_view(m.klam);
     auto T = Kokkos::create_mirror_view(m.theta);
     auto X = Kokkos::create_mirror_view(m.node_x);
     auto Y = Kokkos::create_mirror_view(m.node_y);
@@ -175,6 +236,12 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         T(t, i) = p.thermal_strain * e.theta_unit(i);
         for (int j = 0; j < d; ++j) K(t, i, j) = e.K(i, j), A(t, i, j) = Ai(i, j);
       }
+      {  // largest eigenvalue of M_e^-1 K_e (lumped M): the element's part of the step bound
+        const Eigen::VectorXd r = e.mass.cwiseSqrt().cwiseInverse();
+        const Eigen::MatrixXd S = r.asDiagonal() * e.K * r.asDiagonal();
+        KL(t) = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+        lam[t] = KL(t);
+      }
       N(t) = e.nodes;
       map.type_nodes[t] = e.nodes;
       for (int k = 0; k < e.nodes; ++k) {
@@ -187,7 +254,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       for (int i = 0; i < nd; ++i)
         for (int j = 0; j < nd; ++j)
           if (i != j && A(t, i, j) != 0.0) m.ainv_diagonal = false;
-    Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M);
+    Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M), Kokkos::deep_copy(m.klam, KL);
     Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
     Kokkos::deep_copy(m.type_nodes, N);
   }
@@ -394,16 +461,12 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     Kokkos::deep_copy(m.ixi, XI), Kokkos::deep_copy(m.inx, NX), Kokkos::deep_copy(m.iny, NY), Kokkos::deep_copy(m.ilen, L);
     Kokkos::deep_copy(m.ikind, KK);
   }
-  // Step estimate: Gershgorin bound on the eigenvalues of M^-1 K_lin, K_lin = element
-  // stiffness + elastic interface stiffness k L t int N N^T ds (same in x and y). Every
-  // eigenvalue lies below max_i sum_j |K_ij| / m_i, so 2 / sqrt(that) is a safe (low) step:
-  // a start for critical_step's bisection, never the answer.
+  // Step estimate, as the run's monitor computes it (monitor.hpp StepBound) for the elastic state:
+  // per free element, the largest eigenvalue of M_e^-1 K_e plus the Gershgorin row sum of the
+  // elastic interface stiffness k L t int N N^T ds (same in x and y) over the node's mass; the
+  // largest over the elements gives 2 / sqrt(it), a start for critical_step's bisection.
   {
     std::vector<double> row(static_cast<std::size_t>(ne) * nd, 0.0);
-    for (int e = 0; e < ne; ++e) {
-      const auto& T = types[map.elem_type[e]];
-      for (int i = 0; i < 2 * T.nodes; ++i) row[e * nd + i] = T.K.row(i).cwiseAbs().sum();
-    }
     const auto q = cohesive::gauss_legendre(2);  // N N^T is quadratic in s: exact
     for (const auto& r : rec) {
       const double klt = m.laws[r.kind].k * r.len * p.thickness;
@@ -421,12 +484,21 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         row[el[i] * nd + 2 * nn[i]] += sum, row[el[i] * nd + 2 * nn[i] + 1] += sum;
       }
     }
+    auto is_free = [&](int e) {
+      const auto dr = s.drive[map.elem_brick[e]];
+      return dr == geometry::Drive::free || (dr == geometry::Drive::top && !m.top_prescribed);
+    };
+    auto omega2_of = [&](int e, const std::vector<double>& scale) {
+      const int t = map.elem_type[e];
+      const auto& T = types[t];
+      double w2 = 0;
+      for (int i = 0; i < 2 * T.nodes; ++i) w2 = std::max(w2, row[e * nd + i] / T.mass(i));
+      return (lam[t] + w2) / scale[t];
+    };
+    std::vector<double> scale(nt, 1.0);
     double omega2 = 0;
-    for (int e = 0; e < ne; ++e) {
-      if (s.drive[map.elem_brick[e]] != geometry::Drive::free && !(s.drive[map.elem_brick[e]] == geometry::Drive::top && !m.top_prescribed)) continue;
-      const auto& T = types[map.elem_type[e]];
-      for (int i = 0; i < 2 * T.nodes; ++i) omega2 = std::max(omega2, row[e * nd + i] / T.mass(i));
-    }
+    for (int e = 0; e < ne; ++e)
+      if (is_free(e)) omega2 = std::max(omega2, omega2_of(e, scale));
     m.step_estimate = omega2 > 0 ? 2.0 / std::sqrt(omega2) : p.dt;
   }
 
@@ -469,10 +541,30 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   return m;
 }
 
+void set_model_step(Model<>& m, double h) {
+  if (!(h > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
+  m.h = h;
+  auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);
+  auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
+  auto N = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.type_nodes);
+  auto A = Kokkos::create_mirror_view(m.Ainv);
+  Kokkos::deep_copy(A, 0.0);
+  for (int t = 0; t < m.n_types; ++t) {  // as build_model: ((1 + h alpha/2) M + h beta/2 K)^-1
+    const int d = 2 * N(t);
+    Eigen::MatrixXd Amat = Eigen::MatrixXd::Zero(d, d);
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j) Amat(i, j) = (0.5 * h * m.beta) * K(t, i, j) + (i == j ? (1.0 + 0.5 * h * m.alpha) * M(t, i) : 0.0);
+    const Eigen::MatrixXd Ai = Amat.ldlt().solve(Eigen::MatrixXd::Identity(d, d));
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j) A(t, i, j) = Ai(i, j);
+  }
+  Kokkos::deep_copy(m.Ainv, A);
+}
+
 std::size_t model_bytes(const Model<>& m) {
   std::size_t b = 0;
   auto add = [&](const auto& v) { b += v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
-  add(m.K), add(m.Ainv), add(m.mass), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
+  add(m.K), add(m.Ainv), add(m.mass), add(m.klam), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
   add(m.type), add(m.driven_index), add(m.cx), add(m.cy), add(m.drive), add(m.fp), add(m.goff), add(m.gent);
   add(m.tile_start), add(m.tile_elem), add(m.driven);
   add(m.ielem), add(m.inode), add(m.ishape), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);

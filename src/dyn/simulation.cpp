@@ -2,19 +2,24 @@
 // runs initial_integrate / interface force / final_integrate per step, keeps the energy books,
 // and catches blow-ups.
 //
-// Blow-up criterion (advance, critical_step): after every kCheckEvery steps (and after every
-// step while locating a failure) the state is unstable when any displacement, velocity or
-// acceleration is not finite, or when the kinetic energy of the free elements exceeds
-//   10 * (|external work| + |E_ref|) + 1e-20 N mm,
-// E_ref being the mechanical energy at the start (0 from rest, or at restore_state). A stable
-// run can never reach that: its kinetic energy is bounded by the work put in plus the initial
-// energy (damping only removes energy). An unstable explicit step grows its highest mode by a
-// factor > 1 every step, so the bound is crossed within a few dozen steps of the onset. On
-// failure the chunk is replayed step by step from a copy, so the state is left at the last good
-// step (the run is deterministic, the replay takes the same path).
+// Checks (advance, critical_step; docs/dynamics.md "Stability monitor"): after every kCheckEvery
+// steps (and after every step while locating a failure) the state is unstable when
+//  - any displacement, velocity or acceleration is not finite, or the kinetic energy of the free
+//    elements exceeds 10 * (|external work| + |E_ref|) + 1e-20 N mm (E_ref: the mechanical
+//    energy at the start, 0 from rest): a stable run cannot reach it, damping only removes energy;
+//  - Params::balance_tolerance > 0 and |energy balance residual| exceeds it: the physical
+//    invariant, which a local instability breaks long before the kinetic bound;
+//  - (chunk checks only) Params::growth_factor > 0 and one element's share of the energy grew by
+//    more than that factor per check in growth_checks consecutive checks (monitor.hpp);
+//  - (chunk checks only) Params::step_check, fixed dt, and the estimated critical step of the
+//    current tangent stiffness (monitor.hpp StepBound x step_calibration) fell below dt.
+// On failure the chunk is replayed step by step from a copy, so the state is left at the last
+// step that passes the per-step checks (the run is deterministic, the replay takes the same
+// path); a failure only the chunk checks see leaves the state at the chunk's start.
 #include <nacre/dyn/bie.hpp>
 #include <nacre/dyn/kernels.hpp>
 #include <nacre/dyn/model.hpp>
+#include <nacre/dyn/monitor.hpp>
 #include <nacre/dyn/simulation.hpp>
 
 #include <cmath>
@@ -28,6 +33,9 @@ namespace {
 constexpr int kCheckEvery = 32;
 constexpr double kBlowUpFactor = 10.0;
 constexpr double kTinyEnergy = 1e-20;
+/// elements below this share of the energy are not watched for growth (rounding-level shares
+/// jump by any factor)
+constexpr double kGrowthFloor = 1e-6;
 using Exec = Kokkos::DefaultExecutionSpace;
 using Mem = Exec::memory_space;
 }  // namespace
@@ -45,8 +53,17 @@ struct Simulation::Impl {
   loading::Ramp ramp;
   Exec space;  ///< instance the run's kernels go to (set by advance)
   long step = 0;
+  double t = 0;         ///< time of `step` (a sum of the steps taken: the adaptive mode varies dt)
+  double dt0 = 0;       ///< the step the run started with (Params::dt)
   double e_ref = 0;
+  double e_in = 0;      ///< energy of a state set by hand that no work accounts for (restore_state)
   std::string why;
+  // stability monitor (monitor.hpp): energy shares and growth runs per element, the step bound
+  Kokkos::View<double*, Mem> share;
+  Kokkos::View<std::int16_t*, Mem> run;
+  StepReport report;
+  double t_copy = 0;
+  bool chunk_only = false;  ///< the last failed check was one the per-step replay does not run
   // BIE (bie.hpp): J^-1 per type, slot order, p_n / v_n and the residual block
   BieTables<> bie;
   DofView<Mem> pn, vn, R;
@@ -67,6 +84,10 @@ struct Simulation::Impl {
     dacc = make<DrivenAccView<Mem>>("dacc", ndr), dacc0 = make<DrivenAccView<Mem>>("dacc0", ndr);
     iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
     ws.reserve(std::max(ne, m.n_iface));
+    if (p.growth_factor > 0) {
+      share = Kokkos::View<double*, Mem>("nacre::dyn::monitor::share", ne);
+      run = Kokkos::View<std::int16_t*, Mem>("nacre::dyn::monitor::run", ne);
+    }
     if (is_bie()) {
       pn = make<DofView<Mem>>("bie_pn", ne, nd), vn = make<DofView<Mem>>("bie_vn", ne, nd);
       if (!bie_fused()) R = make<DofView<Mem>>("bie_R", std::max(ne, 1), 2 * nd);
@@ -84,7 +105,45 @@ struct Simulation::Impl {
     return BieSolveOp<Mem>{bie.Jinv, bie.slot_type, bie.tile_start, bie.tile_count, R, bie.n2};
   }
 
-  [[nodiscard]] double time_at(long n) const { return static_cast<double>(n) * p.dt; }
+  /// The state at t = 0: driven elements at their prescribed values, BIE's a_0, the start's work
+  /// books, and the step bound's reference.
+  void start(const Exec& space) {
+    impose(space, 0.0);
+    // BIE carries a_n into the step (eq. 4.6; the split step M^-1 F instead): start from the
+    // initial state's.
+    if (is_bie())
+      bie_accelerations(space, bie_integrator(), InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface,
+                        p.bie_scheme == BieScheme::split);
+    // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
+    // kinetic energy is counted as work done by the machine, so the balance starts closed.
+    set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
+                     m.n_elem);
+    space.fence();
+    read_bound(false);
+    report.bound_start = report.bound;
+  }
+
+  /// The tangent step bound (monitor.hpp) of the current state; BIE: interfaces only.
+  StepBound<Mem> step_bound_op() const {
+    return StepBound<Mem>{InterfaceOp<Mem>(m, u, iforce), m.type, m.goff, m.gent, m.drive, m.mass, m.klam, m.nd,
+                          !is_bie()};
+  }
+  /// Evaluate the bound now into `report` (the controlling interface only when asked: a stop).
+  void read_bound(bool where) {
+    const auto sb = step_bound_op();
+    const auto r = dyn::step_bound(space, sb, m.n_elem);
+    report.dt = p.dt;
+    report.bound = r.val > 0 ? 2.0 / std::sqrt(r.val) : 0.0;
+    report.element = r.val > 0 ? r.loc : -1;
+    report.brick = report.element >= 0 ? map.elem_brick[report.element] : -1;
+    report.estimate = report.bound;
+    report.iface = -1, report.penetration = 0;
+    if (where && report.element >= 0) {
+      int i;
+      dyn::controlling_interface(space, sb, report.element, i, report.penetration);
+      report.iface = i >= 0 && i < m.n_mortar ? map.iface_geom[i] : -1;
+    }
+  }
 
   Integrator<Mem> integrator() const {
     Integrator<Mem> it(m, u, v, a, acc, dacc, iforce);
@@ -106,10 +165,11 @@ struct Simulation::Impl {
   }
 
   void step_once(const Exec& space) {
-    const loading::Opening o = ramp(time_at(step + 1));
+    const double t1 = t + p.dt;
+    const loading::Opening o = ramp(t1);
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
-    it.D_prev = ramp.displacement(time_at(step));
+    it.D_prev = ramp.displacement(t);
     if (is_bie()) {
       auto bi = bie_integrator();
       bi.ex = it;
@@ -119,15 +179,31 @@ struct Simulation::Impl {
       verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     }
     ++step;
+    t = t1;
+  }
+
+  /// Adaptive mode: a new step h for every type table that depends on it ((M + h/2 C)^-1; BIE's
+  /// J^-1), between two steps (velocity Verlet and the implicit midpoint take a new h per step).
+  void change_dt(double h) {
+    p.dt = h;
+    set_model_step(m, h);
+    if (is_bie()) {
+      bie = build_bie_tables(m);
+      n_tiles = static_cast<int>(bie.tile_start.extent(0));
+      if (bie_fused()) bie.slot_of_elem = {}, bie.slot_type = {}, bie.tile_start = {}, bie.tile_count = {}, n_tiles = 0;
+    }
+    ++report.dt_changes;
   }
 
   void save_copy(const Exec& space) {
     Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
     Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
+    t_copy = t;
   }
   void load_copy(const Exec& space) {
     Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
     Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
+    t = t_copy;
   }
 
   double sum_acc(AccCol col) { return column_sum(space, ws, acc, col, m.n_elem); }
@@ -139,25 +215,86 @@ struct Simulation::Impl {
   double strain() { return element_sum(space, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
   double cohesive() { return cohesive_energy(space, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
 
-  /// True when the state is finite and below the kinetic-energy bound; else fills `why`.
-  bool healthy() {
+  /// The balance residual as Energies reports it, (W + E_in - (S + K + C + D)) / max|term|.
+  double balance(double& strain_e, double& kin, double& coh, double& damp, double& work) {
+    strain_e = strain(), kin = kinetic(false, false), coh = cohesive(), damp = sum_acc(kDamp), work = sum_acc(kWork);
+    const double scale = std::max({std::abs(strain_e), std::abs(kin), std::abs(coh), std::abs(damp), std::abs(work),
+                                   std::abs(e_in)});
+    const double res = work + e_in - (strain_e + kin + coh + damp);
+    return scale > 0 ? res / scale : 0.0;
+  }
+
+  /// True when the state passes the checks (header); else fills `why`. `chunk`: the end of a
+  /// step chunk (the growth and step-bound checks run there only).
+  bool healthy(bool chunk) {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::check");
+    chunk_only = false;
     const double ke = kinetic(true, true);
     const double w = sum_acc(kWork);
     const double bound = kBlowUpFactor * (std::abs(w) + std::abs(e_ref)) + kTinyEnergy;
     std::ostringstream o;
     o.precision(6);
+    o << "step " << step << " (t = " << t << " s): ";
     if (!std::isfinite(ke) || !std::isfinite(w)) {
-      o << "step " << step << " (t = " << time_at(step) << " s): non-finite "
-        << (std::isfinite(ke) ? "external work" : "displacement, velocity or acceleration");
-    } else if (ke > bound) {
-      o << "step " << step << " (t = " << time_at(step) << " s): kinetic energy " << ke
-        << " N mm exceeds the bound 10 (|external work| + |E_ref|) = " << bound << " N mm";
-    } else {
-      return true;
+      o << "non-finite " << (std::isfinite(ke) ? "external work" : "displacement, velocity or acceleration");
+      why = o.str();
+      return false;
     }
-    why = o.str();
-    return false;
+    if (ke > bound) {
+      o << "kinetic energy " << ke << " N mm exceeds the bound 10 (|external work| + |E_ref|) = " << bound << " N mm";
+      why = o.str();
+      return false;
+    }
+    double se = 0, kin = 0, coh = 0, dd = 0, work = 0;
+    if (p.balance_tolerance > 0 || p.growth_factor > 0) {
+      const double res = balance(se, kin, coh, dd, work);
+      if (!(std::abs(res) <= p.balance_tolerance) && p.balance_tolerance > 0) {
+        o << "energy balance residual " << res << " exceeds balance_tolerance " << p.balance_tolerance
+          << " (work " << work << ", strain " << se << ", kinetic " << kin << ", cohesive " << coh << ", damping "
+          << dd << " N mm)";
+        why = o.str();
+        return false;
+      }
+    }
+    if (!chunk) return true;
+    chunk_only = true;  // a failure below is seen by the chunk checks only
+    if (p.growth_factor > 0 && se + kin > 0) {
+      const ElementGrowth<Mem> g{StrainEnergy<Mem>{m.type, m.K, u, m.nd},
+                                 KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
+                                 share, run, 1.0 / (se + kin), p.growth_factor, kGrowthFloor};
+      const auto gr = element_growth(space, g, m.n_elem);
+      report.growth_longest = std::max(report.growth_longest, gr.val);
+      if (gr.val >= p.growth_checks) {
+        auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(share, gr.loc));
+        o << "element " << gr.loc << " (brick " << map.elem_brick[gr.loc] << ") energy share grew by more than "
+          << p.growth_factor << "x per " << kCheckEvery << "-step check in " << gr.val
+          << " checks in a row (now " << hs() << " of the specimen's strain + kinetic energy): a local instability";
+        why = o.str();
+        return false;
+      }
+    }
+    if (p.step_check) {
+      read_bound(false);
+      if (p.dt_mode == DtMode::fixed && p.dt > report.estimate) {
+        read_bound(true);
+        o << "the estimated critical step " << report.estimate << " s fell below dt = " << p.dt
+          << " s (" << report.bound / report.bound_start << " of its start value) at element " << report.element << " (brick " << report.brick << ")";
+        if (report.iface >= 0)
+          o << ", interface " << report.iface << " penetrating " << report.penetration << " x1";
+        o << "; use a smaller dt or dt_mode = \"adaptive\"";
+        why = o.str();
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// Adaptive mode, after a passed chunk check: the step follows the bound, dt = dt0 * min(1,
+  /// bound / bound_start), changed when it moved by more than 2 % (down) or 10 % (up).
+  void adapt() {
+    if (!(p.step_check && p.dt_mode == DtMode::adaptive) || !(report.bound_start > 0) || !(report.bound > 0)) return;
+    const double want = dt0 * std::min(1.0, report.bound / report.bound_start);
+    if (want < 0.98 * p.dt || want > 1.1 * p.dt || (want == dt0 && p.dt != dt0 && want > p.dt)) change_dt(want);
   }
 };
 
@@ -186,19 +323,11 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
       I.n_tiles = 0;
     }
   }
+  I.dt0 = p.dt;
   I.allocate();
   Exec space;
-  I.impose(space, 0.0);
-  // BIE carries a_n into the step (eq. 4.6; the split step M^-1 F instead): start from the
-  // initial state's.
-  if (I.is_bie())
-    bie_accelerations(space, I.bie_integrator(), InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface,
-                      p.bie_scheme == BieScheme::split);
-  // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
-  // kinetic energy is counted as work done by the machine, so the balance starts closed.
-  set_initial_work(space, I.integrator(), KineticEnergy<Mem>{I.m.type, I.m.drive, I.m.mass, I.u, I.v, I.a, I.m.nd, false, false},
-                   I.m.n_elem);
-  space.fence();
+  I.space = space;
+  I.start(space);
 }
 
 Simulation::~Simulation() = default;
@@ -216,7 +345,13 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
     const long start = I.step;
     for (long k = 0; k < chunk; ++k) I.step_once(space);
     space.fence();
-    if (!I.healthy()) {
+    if (!I.healthy(true)) {
+      if (I.chunk_only) {  // only a chunk check (growth, step bound) saw it: back to the chunk's
+        I.load_copy(space);  // start, which passed every check
+        I.step = start;
+        space.fence();
+        return false;
+      }
       // replay the chunk step by step to stop at the last good step
       I.load_copy(space);
       I.step = start;
@@ -224,7 +359,7 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
         I.save_copy(space);
         I.step_once(space);
         space.fence();
-        if (!I.healthy()) {
+        if (!I.healthy(false)) {
           I.load_copy(space);
           --I.step;
           space.fence();
@@ -235,13 +370,28 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
       I.why = "blow-up at the end of a step chunk that the replay did not reproduce";
       return false;
     }
+    I.adapt();
     done += chunk;
   }
   return true;
 }
 
 const std::string& Simulation::why() const { return impl_->why; }
-double Simulation::time() const { return impl_->time_at(impl_->step); }
+double Simulation::time() const { return impl_->t; }
+double Simulation::dt() const { return impl_->p.dt; }
+const StepReport& Simulation::step_report() const { return impl_->report; }
+void Simulation::set_initial_dt(double h) {
+  auto& I = *impl_;
+  if (I.step != 0) throw std::logic_error("dyn::Simulation::set_initial_dt: the run has started");
+  I.change_dt(h);
+  I.dt0 = h;
+  I.report.dt_changes = 0;
+  I.start(I.space);  // a_0 and the start's books at the new step
+}
+StepReport Simulation::step_check() {
+  impl_->read_bound(true);
+  return impl_->report;
+}
 long Simulation::steps() const { return impl_->step; }
 double Simulation::displacement() const { return impl_->ramp.displacement(time()); }
 
@@ -255,8 +405,8 @@ Energies Simulation::energies() const {
   e.damping_dissipated = I.sum_acc(kDamp);
   e.external_work = I.sum_acc(kWork);
   const double scale = std::max({std::abs(e.strain), std::abs(e.kinetic), std::abs(e.cohesive),
-                                 std::abs(e.damping_dissipated), std::abs(e.external_work)});
-  const double res = e.external_work - (e.strain + e.kinetic + e.cohesive + e.damping_dissipated);
+                                 std::abs(e.damping_dissipated), std::abs(e.external_work), std::abs(I.e_in)});
+  const double res = e.external_work + I.e_in - (e.strain + e.kinetic + e.cohesive + e.damping_dissipated);
   e.balance_residual = scale > 0 ? res / scale : 0.0;
   return e;
 }
@@ -363,7 +513,9 @@ StateArrays Simulation::save_state() const {
   StateArrays s;
   s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
   s["dacc"] = to_vector(I.dacc);
-  s["clock"] = {static_cast<double>(I.step), I.p.dt, I.e_ref};
+  // step, start dt, E_ref, then time, current dt, the bound at the start, E_in, dt changes
+  s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t, I.p.dt, I.report.bound_start, I.e_in,
+                static_cast<double>(I.report.dt_changes)};
   s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
                 static_cast<double>(I.m.n_iface)};
   return s;
@@ -383,21 +535,31 @@ void Simulation::restore_state(const StateArrays& a) {
       shape[2] != static_cast<double>(I.p.method) || shape[3] != I.m.n_iface)
     throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
   const auto& clock = a.at("clock");
-  if (clock.size() != 3) throw std::runtime_error("dyn::restore_state: 'clock' needs 3 values");
-  if (clock[1] != I.p.dt)
+  if (clock.size() != 3 && clock.size() != 8)
+    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 (older nacre) or 8 values");
+  if (clock[1] != I.dt0)
     throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
   from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
   from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
   I.step = static_cast<long>(clock[0]);
+  const bool v8 = clock.size() == 8;  // nacre >= the stability monitor: time, dt, bound, E_in
+  I.t = v8 ? clock[3] : static_cast<double>(I.step) * I.dt0;
+  if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
+  if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
+  const double e_in_saved = v8 ? clock[6] : 0.0;
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
-  // then the mechanical energy not accounted for by work and dissipation becomes the reference.
+  // then the mechanical energy not accounted for by work and dissipation becomes the reference,
+  // and E_in, which the balance counts as energy put in.
   const double emech = I.strain() + I.kinetic(false, false) + I.cohesive();
   const double w = I.sum_acc(kWork), dd = I.sum_acc(kDamp);
-  const double unaccounted = emech + dd - w;
+  const double unaccounted = emech + dd - w - e_in_saved;
   I.e_ref = clock[2];
-  if (std::abs(unaccounted) > 1e-3 * std::max({emech, std::abs(w), kTinyEnergy}))
+  I.e_in = e_in_saved;
+  if (std::abs(unaccounted) > 1e-3 * std::max({emech, std::abs(w), kTinyEnergy})) {
     I.e_ref = std::max(std::abs(clock[2]), std::abs(unaccounted));
+    I.e_in = e_in_saved + unaccounted;
+  }
   I.why.clear();
 }
 
@@ -423,6 +585,8 @@ double Simulation::bie_residual() const {
   return bie_last_residual(Exec{}, I.acc, I.m.drive, I.m.n_elem);
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
+int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
+double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
 
 double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
@@ -432,6 +596,9 @@ double critical_step(const Params& p, const geometry::Specimen& s, const geometr
   auto stable = [&](double dt) {
     Params q = p;
     q.dt = dt;
+    // a trial is stable when finite, below the kinetic bound and (balance_tolerance > 0) with
+    // closed books; the growth and step-bound checks watch a run, not a trial
+    q.growth_factor = 0, q.step_check = false, q.dt_mode = DtMode::fixed;
     Simulation sim(q, s, f, mortar);
     return sim.advance(space, steps);
   };

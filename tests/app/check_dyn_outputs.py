@@ -29,7 +29,7 @@ def check(cond, msg):
 
 
 cols = ["step", "time", "displacement", "strain_energy", "kinetic_energy", "cohesive_energy",
-        "damping_dissipated", "external_work", "balance_residual", "reaction", "ruptured", "seconds"]
+        "damping_dissipated", "external_work", "balance_residual", "reaction", "ruptured", "dt", "critical_estimate", "seconds"]
 rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
 check(len(rows) >= (1 if partial else 2), "series.csv has too few rows")
 check(rows and list(rows[0].keys()) == cols, f"series.csv columns {list(rows[0].keys()) if rows else []}")

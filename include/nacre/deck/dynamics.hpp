@@ -46,6 +46,15 @@ struct Dynamics {
   /// iterate otherwise (the same step to rounding there, at the same cost: the dissertation's step kept);
   /// the reader turns "auto" with bie_iterations into "iterate".
   std::string bie_scheme = "auto";
+  /// stop at the first check (every 32 steps) where |energy balance residual| exceeds this
+  /// (0: not checked; docs/dynamics.md "Stability monitor")
+  double balance_tolerance = 1e-3;
+  /// "fixed": dt for the whole run, stop when the estimated critical step falls below it;
+  /// "adaptive": dt follows the estimated critical step (docs/dynamics.md)
+  std::string dt_mode = "fixed";
+  /// elements whose step bound is below this fraction of the median element's get a selective
+  /// mass scaling up to it (0: none; docs/dynamics.md "Slivers")
+  double sliver_step_ratio = 0.5;
   long csv_interval = 100;         ///< time-series row every this many steps
   long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
 

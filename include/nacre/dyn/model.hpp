@@ -64,6 +64,9 @@ struct Model {
   TypeMat K;       ///< stiffness
   TypeMat Ainv;    ///< (M + h/2 C)^-1 = ((1 + h alpha/2) M + h beta/2 K)^-1
   Dof mass;        ///< lumped mass per dof
+  /// [type] largest eigenvalue of M_e^-1 K_e: the element's part of the step bound (monitor.hpp;
+  /// elements share no nodes, so the elements' part of M^-1 K is block diagonal and this is exact)
+  Kokkos::View<double*, MemorySpace> klam;
   Dof theta;       ///< thermal load Theta for the run's eigenstrain
   Dof node_x, node_y;  ///< [type][node] node positions relative to the brick centroid
   Kokkos::View<int*, MemorySpace> type_nodes;
@@ -110,6 +113,8 @@ struct Model {
   bool top_prescribed = true;                  ///< false when force_top loads the top instead
   double brick_height = 0;                     ///< height of a whole brick (internal joints, docs)
   double step_estimate = 0;  ///< 2 / sqrt(Gershgorin bound of M^-1 K_lin): a safe step, start of the bisection
+  int sliver_types = 0, sliver_elements = 0;  ///< element types / elements mass-scaled (Params::sliver_step_ratio)
+  double sliver_mass_added = 0;              ///< mass they gained, relative to the specimen's
 };
 
 /// \brief Host bookkeeping that maps the model back to bricks and triangles (outputs).
@@ -133,6 +138,10 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
 /// that the kernel sources stay free of Eigen (nvcc warns on Eigen's headers).
 void triangle_stress(const double x[3], const double y[3], const double u[6], double E, double nu,
                      double eps_th, double sig[3], double& area);
+
+/// \brief A new time step for the model's step-dependent tables, (M + h/2 C)^-1 per type (the
+/// adaptive step; BIE's J^-1 is rebuilt from the model by build_bie_tables).
+void set_model_step(Model<>& m, double h);
 
 /// \brief Bytes held by the model's views.
 std::size_t model_bytes(const Model<>& m);

@@ -50,6 +50,12 @@ enum class ElementApply : std::uint8_t { automatic, per_element, tiled };
 /// J^-1 apply and one interface evaluation per step.
 enum class BieScheme : std::uint8_t { iterate, split };
 
+/// \brief Time step control (docs/dynamics.md "Stability monitor"): fixed = the step set at the
+/// start for the whole run (the run stops when the estimated critical step falls below it);
+/// adaptive = the step follows the estimated critical step down (and back up to its start
+/// value) at the checks, keeping the start's ratio dt / estimate.
+enum class DtMode : std::uint8_t { fixed, adaptive };
+
 /// \brief Time profile of the prescribed opening D(t).
 enum class Ramp : std::uint8_t { linear, smooth };
 
@@ -91,6 +97,35 @@ struct Params {
   /// (false: the comparison in tests/dyn); outputs are in the geometry's order either way.
   bool iface_element_order = true;
   int quadrature_points = 4;             ///< Gauss-Legendre points along each interface segment (1..8)
+
+  // ---- stability monitor (checked after every step chunk; 0 / false: off, the library default;
+  // the app turns every one on with the deck's values, docs/dynamics.md "Stability monitor")
+  /// stop at the first check where |energy balance residual| exceeds this (0: not checked)
+  double balance_tolerance = 0;
+  /// stop when one element's share of the strain + kinetic energy grew by more than this factor
+  /// per check in growth_checks consecutive checks (0: not checked)
+  double growth_factor = 0;
+  int growth_checks = 5;
+  /// watch the tangent step bound (StepBound, monitor.hpp) at every check: fixed mode stops when
+  /// the estimated critical step falls below dt, adaptive mode follows it
+  bool step_check = false;
+  DtMode dt_mode = DtMode::fixed;
+  /// element types whose step bound is below this fraction of the median free element's get a
+  /// selective mass scaling up to it (build_model, docs/dynamics.md "Slivers"; 0: none)
+  double sliver_step_ratio = 0;
+};
+
+/// \brief What the step monitor saw at the last check.
+struct StepReport {
+  double dt = 0;             ///< step in use
+  double bound = 0;          ///< 2 / sqrt(Gershgorin bound of M^-1 K_t) now, s (the explicit part: BIE interfaces only)
+  double bound_start = 0;    ///< the same at the start of the run
+  double estimate = 0;       ///< estimated critical step now (= bound: the step the run compares dt with)
+  int element = -1, brick = -1;  ///< where the bound is attained
+  int iface = -1;            ///< bed/head interface (geometry index) adding most there (-1: an internal joint or none)
+  double penetration = 0;    ///< its largest -dn / x1
+  long dt_changes = 0;       ///< adaptive mode: how often the step was changed
+  int growth_longest = 0;    ///< longest run of checks in which one element's energy share grew > growth_factor
 };
 
 /// \brief Energy bookkeeping at the current time (all in N*mm). The balance residual is
@@ -141,6 +176,15 @@ public:
   /// (0: none); the penalty then stiffens a joint to k (1 + 1.875 (dn / x1)^4).
   [[nodiscard]] double max_penetration() const;
   [[nodiscard]] Snapshot snapshot() const;
+  /// \brief The step monitor's last reading (refreshed by every check; step_check() reads now).
+  [[nodiscard]] const StepReport& step_report() const;
+  /// \brief Evaluate the tangent step bound at the current state (as a check does) and return it.
+  StepReport step_check();
+  /// \brief Current step (the adaptive mode changes it between chunks).
+  [[nodiscard]] double dt() const;
+  /// \brief Set the step before the first step (the app: dt_fraction x the estimated critical
+  /// step read with step_check()); the run's start dt becomes h.
+  void set_initial_dt(double h);
 
   [[nodiscard]] StateArrays save_state() const;
   /// \brief Names of the arrays save_state() writes and restore_state() needs (a reader can
@@ -158,6 +202,10 @@ public:
   /// interval, not per step).
   [[nodiscard]] std::size_t step_bytes() const;
   [[nodiscard]] int element_types() const;
+  /// \brief Elements whose mass Params::sliver_step_ratio scaled, and the mass they gained
+  /// relative to the specimen's.
+  [[nodiscard]] int sliver_elements() const;
+  [[nodiscard]] double sliver_mass_added() const;
   [[nodiscard]] std::size_t bricks() const;
 
   /// \brief BIE only (0 otherwise): largest 1-norm condition number of the per-type Jacobians

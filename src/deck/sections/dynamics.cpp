@@ -117,6 +117,12 @@ void read_dynamics(Section& top, Deck& d) {
            "an eigenstrain with |Theta| < 0.1 (small strain)");
   s.number("force_top", {}, D.force_top, [](double) { return true; }, "a force per unit length in N/mm");
   s.boolean("share_element_matrices", D.share_element_matrices);
+  s.number("balance_tolerance", {}, D.balance_tolerance, [](double v) { return v >= 0 && v < 1; },
+           "a relative residual in [0, 1) (0: not checked)");
+  s.string("dt_mode", D.dt_mode, {"fixed", "adaptive"},
+           "\"fixed\" (stop when the estimated critical step falls below dt) or \"adaptive\" (dt follows it)");
+  s.number("sliver_step_ratio", {}, D.sliver_step_ratio, [](double v) { return v >= 0 && v <= 1; },
+           "a fraction of the median element's step bound in [0, 1] (0: no mass scaling of slivers)");
   s.integer("csv_interval", {}, D.csv_interval, 1, 1000000000000L, "a step count >= 1");
   s.integer("dump_interval", {}, D.dump_interval, 0, 1000000000000L, "a step count >= 0 (0: first and last only)");
 
@@ -130,7 +136,7 @@ void read_dynamics(Section& top, Deck& d) {
   s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "bie_scheme", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
-                    "csv_interval", "dump_interval"});
+                    "csv_interval", "dump_interval", "balance_tolerance", "dt_mode", "sliver_step_ratio"});
 }
 
 }  // namespace nacre::deck::detail
