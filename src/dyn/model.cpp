@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <cmath>
 #include <unordered_map>
@@ -169,12 +171,17 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     std::vector<char> scaled(types.size(), 0);
     std::vector<double> type_mass0(types.size());
     for (std::size_t t = 0; t < types.size(); ++t) type_mass0[t] = types[t].mass.sum();
+    // no element gains more than a quarter of a whole brick's mass (a near-degenerate vertex on
+    // a large piece would otherwise take tens of bricks' mass; that element then keeps a smaller step)
+    const double cap = 0.25 * p.density * p.thickness * s.full_brick_area;
     if (p.sliver_step_ratio > 0 && !lam_free.empty()) {
       std::nth_element(lam_free.begin(), lam_free.begin() + lam_free.size() / 2, lam_free.end());
       const double target = lam_free[lam_free.size() / 2] / (p.sliver_step_ratio * p.sliver_step_ratio);
       for (std::size_t t = 0; t < types.size(); ++t) {
         auto& e = types[t];
         for (int it = 0; it < 64 && lam_t[t] > target * (1 + 1e-9); ++it) {
+          if (e.mass.sum() - type_mass0[t] >= cap) break;  // at most a quarter brick added: the rest is dt's
+          const Eigen::VectorXd before = e.mass;
           Eigen::VectorXd x;
           lam_t[t] = lam_of(e, &x);
           if (lam_t[t] <= target * (1 + 1e-9)) break;
@@ -183,9 +190,18 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
           double top = 0;
           for (int j = 0; j < e.nodes; ++j)
             top = std::max(top, share[j] = e.mass(2 * j) * x(2 * j) * x(2 * j) + e.mass(2 * j + 1) * x(2 * j + 1) * x(2 * j + 1));
-          const double f = std::min(4.0, lam_t[t] / target);
+          // the light ones first (a sliver's mode lives on its light corner nodes): a node that
+          // carries the mode and is lighter than the element's mean node gets heavier, others only
+          // when no light one carries it
+          const double f = std::min(4.0, lam_t[t] / target), mean = e.mass.sum() / (2.0 * e.nodes);
+          bool any = false;
           for (int j = 0; j < e.nodes; ++j)
-            if (share[j] >= 0.1 * top) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f;
+            if (share[j] >= 0.1 * top && e.mass(2 * j) < mean) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f, any = true;
+          if (!any)
+            for (int j = 0; j < e.nodes; ++j)
+              if (share[j] >= 0.1 * top) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f;
+          if (e.mass.sum() - type_mass0[t] > cap)  // this step overshoots the cap: scale it back
+            e.mass = before + (e.mass - before) * ((cap - (before.sum() - type_mass0[t])) / (e.mass.sum() - before.sum()));
           scaled[t] = 1;
         }
       }

@@ -53,7 +53,11 @@ struct Simulation::Impl {
   loading::Ramp ramp;
   Exec space;  ///< instance the run's kernels go to (set by advance)
   long step = 0;
-  double t = 0;         ///< time of `step` (a sum of the steps taken: the adaptive mode varies dt)
+  /// time of step n: t_base + (n - step_base) dt, exactly n dt while dt never changed (the
+  /// adaptive mode moves the base to the step of each change)
+  double t_base = 0;
+  long step_base = 0;
+  [[nodiscard]] double now(long n) const { return t_base + static_cast<double>(n - step_base) * p.dt; }
   double dt0 = 0;       ///< the step the run started with (Params::dt)
   double e_ref = 0;
   double e_in = 0;      ///< energy of a state set by hand that no work accounts for (restore_state)
@@ -62,7 +66,6 @@ struct Simulation::Impl {
   Kokkos::View<double*, Mem> share;
   Kokkos::View<std::int16_t*, Mem> run;
   StepReport report;
-  double t_copy = 0;
   bool chunk_only = false;  ///< the last failed check was one the per-step replay does not run
   // BIE (bie.hpp): J^-1 per type, slot order, p_n / v_n and the residual block
   BieTables<> bie;
@@ -165,11 +168,10 @@ struct Simulation::Impl {
   }
 
   void step_once(const Exec& space) {
-    const double t1 = t + p.dt;
-    const loading::Opening o = ramp(t1);
+    const loading::Opening o = ramp(now(step + 1));
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
-    it.D_prev = ramp.displacement(t);
+    it.D_prev = ramp.displacement(now(step));
     if (is_bie()) {
       auto bi = bie_integrator();
       bi.ex = it;
@@ -179,12 +181,12 @@ struct Simulation::Impl {
       verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     }
     ++step;
-    t = t1;
   }
 
   /// Adaptive mode: a new step h for every type table that depends on it ((M + h/2 C)^-1; BIE's
   /// J^-1), between two steps (velocity Verlet and the implicit midpoint take a new h per step).
   void change_dt(double h) {
+    t_base = now(step), step_base = step;
     p.dt = h;
     set_model_step(m, h);
     if (is_bie()) {
@@ -198,12 +200,10 @@ struct Simulation::Impl {
   void save_copy(const Exec& space) {
     Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
     Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
-    t_copy = t;
   }
   void load_copy(const Exec& space) {
     Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
     Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
-    t = t_copy;
   }
 
   double sum_acc(AccCol col) { return column_sum(space, ws, acc, col, m.n_elem); }
@@ -234,7 +234,7 @@ struct Simulation::Impl {
     const double bound = kBlowUpFactor * (std::abs(w) + std::abs(e_ref)) + kTinyEnergy;
     std::ostringstream o;
     o.precision(6);
-    o << "step " << step << " (t = " << t << " s): ";
+    o << "step " << step << " (t = " << now(step) << " s): ";
     if (!std::isfinite(ke) || !std::isfinite(w)) {
       o << "non-finite " << (std::isfinite(ke) ? "external work" : "displacement, velocity or acceleration");
       why = o.str();
@@ -377,7 +377,7 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
 }
 
 const std::string& Simulation::why() const { return impl_->why; }
-double Simulation::time() const { return impl_->t; }
+double Simulation::time() const { return impl_->now(impl_->step); }
 double Simulation::dt() const { return impl_->p.dt; }
 const StepReport& Simulation::step_report() const { return impl_->report; }
 void Simulation::set_initial_dt(double h) {
@@ -513,9 +513,10 @@ StateArrays Simulation::save_state() const {
   StateArrays s;
   s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
   s["dacc"] = to_vector(I.dacc);
-  // step, start dt, E_ref, then time, current dt, the bound at the start, E_in, dt changes
-  s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t, I.p.dt, I.report.bound_start, I.e_in,
-                static_cast<double>(I.report.dt_changes)};
+  // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
+  // changes, the step of the time base
+  s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t_base, I.p.dt, I.report.bound_start, I.e_in,
+                static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base)};
   s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
                 static_cast<double>(I.m.n_iface)};
   return s;
@@ -535,17 +536,18 @@ void Simulation::restore_state(const StateArrays& a) {
       shape[2] != static_cast<double>(I.p.method) || shape[3] != I.m.n_iface)
     throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
   const auto& clock = a.at("clock");
-  if (clock.size() != 3 && clock.size() != 8)
-    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 (older nacre) or 8 values");
+  if (clock.size() != 3 && clock.size() != 9)
+    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 (older nacre) or 9 values");
   if (clock[1] != I.dt0)
     throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
   from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
   from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
   I.step = static_cast<long>(clock[0]);
-  const bool v8 = clock.size() == 8;  // nacre >= the stability monitor: time, dt, bound, E_in
-  I.t = v8 ? clock[3] : static_cast<double>(I.step) * I.dt0;
+  const bool v8 = clock.size() == 9;  // nacre >= the stability monitor: time base, dt, bound, E_in
   if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
+  I.t_base = v8 ? clock[3] : 0.0;
+  I.step_base = v8 ? static_cast<long>(clock[8]) : 0;
   if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
   const double e_in_saved = v8 ? clock[6] : 0.0;
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
