@@ -544,6 +544,9 @@ TEST_CASE("bie: energy balance closes with damping; save_state / restore_state b
   dyn::Simulation a(p, st.s, st.f, mortar());
   REQUIRE(a.advance(Exec{}, 200));
   const auto saved = a.save_state();
+  const auto e200 = a.energies();
+  UNSCOPED_INFO("at the save: W " << e200.external_work << " S " << e200.strain << " K " << e200.kinetic << " C "
+                << e200.cohesive << " D " << e200.damping_dissipated << " res " << e200.balance_residual);
   REQUIRE(a.advance(Exec{}, 300));
   const auto e = a.energies();
   INFO("W " << e.external_work << " D " << e.damping_dissipated << " res " << e.balance_residual);
