@@ -248,7 +248,10 @@ struct Simulation::Impl {
     double se = 0, kin = 0, coh = 0, dd = 0, work = 0;
     if (p.balance_tolerance > 0 || p.growth_factor > 0) {
       const double res = balance(se, kin, coh, dd, work);
-      if (!(std::abs(res) <= p.balance_tolerance) && p.balance_tolerance > 0) {
+      // from the first chunk's end on: the first steps of a start carry an O((h omega)^2) error of
+      // the books relative to the little energy put in yet (BIE at 40 ns: 2.2e-3 at step 2), not
+      // an instability
+      if (!(std::abs(res) <= p.balance_tolerance) && p.balance_tolerance > 0 && step >= kCheckEvery) {
         o << "energy balance residual " << res << " exceeds balance_tolerance " << p.balance_tolerance
           << " (work " << work << ", strain " << se << ", kinetic " << kin << ", cohesive " << coh << ", damping "
           << dd << " N mm)";

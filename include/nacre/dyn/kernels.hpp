@@ -156,6 +156,20 @@ struct InterfaceOp {
     for (int k = 0; k < 8; ++k) out(i, k) = f[k];
   }
 
+  /// Largest -dn / x1 of interface i over its quadrature points (its interpenetration).
+  KOKKOS_INLINE_FUNCTION double penetration(int i) const {
+    double q[8];
+    load(i, q);
+    const double x1 = laws[ikind(ishape(i))].x1;
+    double r = -1e300;
+    for (int p = 0; p < quad.n; ++p) {
+      double dn, dt, xa, xb;
+      jump(i, q, quad.s[p], dn, dt, xa, xb);
+      r = Kokkos::max(r, -dn / x1);
+    }
+    return r;
+  }
+
   /// Damage 0 (elastic) .. 1 (ruptured) = clamp((d_max - x1) / x2); state 0 elastic,
   /// 1 beyond x1 somewhere, 2 ruptured at every quadrature point.
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
@@ -574,17 +588,7 @@ double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<Exec
   double r = 0;
   Kokkos::parallel_reduce(
       "nacre::dyn::max_penetration", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
-      KOKKOS_LAMBDA(const int i, double& acc) {
-        double q[8];
-        op.load(i, q);
-        const double x1 = op.laws[op.ikind(op.ishape(i))].x1;
-        for (int p = 0; p < op.quad.n; ++p) {
-          double dn, dt, xa, xb;
-          op.jump(i, q, op.quad.s[p], dn, dt, xa, xb);
-          acc = Kokkos::max(acc, -dn / x1);
-        }
-      },
-      Kokkos::Max<double>(r));
+      KOKKOS_LAMBDA(const int i, double& acc) { acc = Kokkos::max(acc, op.penetration(i)); }, Kokkos::Max<double>(r));
   return r;
 }
 

@@ -126,17 +126,7 @@ void controlling_interface(const ExecutionSpace& space, const StepBound<MemOf<Ex
   const int i = iface;
   Kokkos::parallel_reduce(
       "nacre::dyn::monitor::penetration", Kokkos::RangePolicy<ExecutionSpace>(space, 0, 1),
-      KOKKOS_LAMBDA(const int, double& acc) {
-        double q[8];
-        op.load(i, q);
-        const double x1 = op.laws[op.ikind(op.ishape(i))].x1;
-        for (int p = 0; p < op.quad.n; ++p) {
-          double dn, dt, xa, xb;
-          op.jump(i, q, op.quad.s[p], dn, dt, xa, xb);
-          acc = Kokkos::max(acc, -dn / x1);
-        }
-      },
-      Kokkos::Max<double>(pen));
+      KOKKOS_LAMBDA(const int, double& acc) { acc = Kokkos::max(acc, op.penetration(i)); }, Kokkos::Max<double>(pen));
   penetration = pen;
 }
 
