@@ -7,10 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <cmath>
 #include <unordered_map>
@@ -65,6 +61,32 @@ struct Side {
   double xi0 = 0, xi1 = 0;
 };
 
+}  // namespace
+
+namespace {
+/// (M + h/2 C)^-1 = ((1 + h alpha/2) M + h beta/2 K)^-1 per type into the host table A (zeros
+/// beyond a type's dofs) from host K, lumped M and node counts, at m.h, m.alpha, m.beta; and
+/// whether every one is diagonal (beta = 0). build_model and set_model_step share it.
+template <class KH, class MH, class NH, class AH>
+void step_tables(Model<>& m, const KH& K, const MH& M, const NH& N, const AH& A) {
+  const double h = m.h;
+  Kokkos::deep_copy(A, 0.0);
+  for (int t = 0; t < m.n_types; ++t) {
+    const int d = 2 * N(t);
+    Eigen::MatrixXd Amat(d, d);
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j)
+        Amat(i, j) = (i == j ? (1.0 + 0.5 * h * m.alpha) * M(t, i) : 0.0) + (0.5 * h * m.beta) * K(t, i, j);
+    const Eigen::MatrixXd Ai = Amat.ldlt().solve(Eigen::MatrixXd::Identity(d, d));
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j) A(t, i, j) = Ai(i, j);
+  }
+  m.ainv_diagonal = true;
+  for (int t = 0; t < m.n_types; ++t)
+    for (int i = 0; i < m.nd; ++i)
+      for (int j = 0; j < m.nd; ++j)
+        if (i != j && A(t, i, j) != 0.0) m.ainv_diagonal = false;
+}
 }  // namespace
 
 Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
@@ -153,16 +175,19 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   // triangle where the clip cut a corner by a hair). The nodes that carry the offending mode get
   // heavier until the element's step bound is sliver_step_ratio times the median element's:
   // one element no longer sets the step of the whole specimen, at a mass cost that is reported.
+  // lam_t: the largest eigenvalue of M_e^-1 K_e per type (lumped M), after the scaling: the
+  // element's part of the step bound (Model::klam)
+  std::vector<double> lam_t(types.size());
   {
     auto lam_of = [](const ElementMatrices& e, Eigen::VectorXd* mode) {
       const Eigen::VectorXd r = e.mass.cwiseSqrt().cwiseInverse();
       const Eigen::MatrixXd S = r.asDiagonal() * e.K * r.asDiagonal();
+      if (!mode) return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S);
       const int top = static_cast<int>(S.rows()) - 1;
-      if (mode) *mode = r.asDiagonal() * es.eigenvectors().col(top);
+      *mode = r.asDiagonal() * es.eigenvectors().col(top);
       return es.eigenvalues()(top);
     };
-    std::vector<double> lam_t(types.size());
     for (std::size_t t = 0; t < types.size(); ++t) lam_t[t] = lam_of(types[t], nullptr);
     std::vector<double> lam_free;
     for (std::size_t e = 0; e < map.elem_brick.size(); ++e)
@@ -179,12 +204,12 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       const double target = lam_free[lam_free.size() / 2] / (p.sliver_step_ratio * p.sliver_step_ratio);
       for (std::size_t t = 0; t < types.size(); ++t) {
         auto& e = types[t];
-        for (int it = 0; it < 64 && lam_t[t] > target * (1 + 1e-9); ++it) {
-          if (e.mass.sum() - type_mass0[t] >= cap) break;  // at most a quarter brick added: the rest is dt's
+        if (!(lam_t[t] > target * (1 + 1e-9))) continue;
+        Eigen::VectorXd x;
+        double lam = lam_of(e, &x);
+        // at most a quarter brick added (the rest is dt's), at most 64 rounds
+        for (int it = 0; it < 64 && lam > target * (1 + 1e-9) && e.mass.sum() - type_mass0[t] < cap; ++it) {
           const Eigen::VectorXd before = e.mass;
-          Eigen::VectorXd x;
-          lam_t[t] = lam_of(e, &x);
-          if (lam_t[t] <= target * (1 + 1e-9)) break;
           // kinetic share of the mode per node; the nodes holding >= 10 % of the largest share
           std::vector<double> share(e.nodes);
           double top = 0;
@@ -193,20 +218,21 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
           // the light ones first (a sliver's mode lives on its light corner nodes): a node that
           // carries the mode and is lighter than the element's mean node gets heavier, others only
           // when no light one carries it
-          const double f = std::min(4.0, lam_t[t] / target), mean = e.mass.sum() / (2.0 * e.nodes);
+          const double grow = std::min(4.0, lam / target), mean = e.mass.sum() / (2.0 * e.nodes);
           bool any = false;
           for (int j = 0; j < e.nodes; ++j)
-            if (share[j] >= 0.1 * top && e.mass(2 * j) < mean) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f, any = true;
+            if (share[j] >= 0.1 * top && e.mass(2 * j) < mean) e.mass(2 * j) *= grow, e.mass(2 * j + 1) *= grow, any = true;
           if (!any)
             for (int j = 0; j < e.nodes; ++j)
-              if (share[j] >= 0.1 * top) e.mass(2 * j) *= f, e.mass(2 * j + 1) *= f;
+              if (share[j] >= 0.1 * top) e.mass(2 * j) *= grow, e.mass(2 * j + 1) *= grow;
           if (e.mass.sum() - type_mass0[t] > cap)  // this step overshoots the cap: scale it back
             e.mass = before + (e.mass - before) * ((cap - (before.sum() - type_mass0[t])) / (e.mass.sum() - before.sum()));
           scaled[t] = 1;
+          lam = lam_of(e, &x);
         }
+        if (scaled[t]) lam_t[t] = lam_of(e, nullptr);
       }
     }
-    m.sliver_types = static_cast<int>(std::count(scaled.begin(), scaled.end(), 1));
     for (std::size_t e = 0; e < map.elem_brick.size(); ++e) {
       const int t = map.elem_type[e];
       const double me = types[t].mass.sum();
@@ -222,7 +248,6 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   m.Ainv = alloc<Model<>::TypeMat>("Ainv", nt, nd, nd);
   m.mass = alloc<Model<>::Dof>("mass", nt, nd);
   m.klam = alloc<Kokkos::View<double*>>("klam", nt);
-  std::vector<double> lam(nt, 0.0);
   m.theta = alloc<Model<>::Dof>("theta", nt, nd);
   m.node_x = alloc<Model<>::Dof>("node_x", nt, kMaxNodes);
   m.node_y = alloc<Model<>::Dof>("node_y", nt, kMaxNodes);
@@ -244,20 +269,12 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     for (int t = 0; t < nt; ++t) {
       const auto& e = types[t];
       const int d = 2 * e.nodes;
-      const Eigen::MatrixXd Amat = (1.0 + 0.5 * p.dt * p.alpha_d) * Eigen::MatrixXd(e.mass.asDiagonal()) +
-                                   (0.5 * p.dt * p.beta_d) * e.K;
-      const Eigen::MatrixXd Ai = Amat.ldlt().solve(Eigen::MatrixXd::Identity(d, d));
       for (int i = 0; i < d; ++i) {
         M(t, i) = e.mass(i);
         T(t, i) = p.thermal_strain * e.theta_unit(i);
-        for (int j = 0; j < d; ++j) K(t, i, j) = e.K(i, j), A(t, i, j) = Ai(i, j);
+        for (int j = 0; j < d; ++j) K(t, i, j) = e.K(i, j);
       }
-      {  // largest eigenvalue of M_e^-1 K_e (lumped M): the element's part of the step bound
-        const Eigen::VectorXd r = e.mass.cwiseSqrt().cwiseInverse();
-        const Eigen::MatrixXd S = r.asDiagonal() * e.K * r.asDiagonal();
-        KL(t) = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-        lam[t] = KL(t);
-      }
+      KL(t) = lam_t[t];
       N(t) = e.nodes;
       map.type_nodes[t] = e.nodes;
       for (int k = 0; k < e.nodes; ++k) {
@@ -265,11 +282,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
         map.type_x[t * kMaxNodes + k] = e.x[k], map.type_y[t * kMaxNodes + k] = e.y[k];
       }
     }
-    m.ainv_diagonal = true;
-    for (int t = 0; t < nt; ++t)
-      for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j)
-          if (i != j && A(t, i, j) != 0.0) m.ainv_diagonal = false;
+    step_tables(m, K, M, N, A);
     Kokkos::deep_copy(m.K, K), Kokkos::deep_copy(m.Ainv, A), Kokkos::deep_copy(m.mass, M), Kokkos::deep_copy(m.klam, KL);
     Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
     Kokkos::deep_copy(m.type_nodes, N);
@@ -504,17 +517,15 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       const auto dr = s.drive[map.elem_brick[e]];
       return dr == geometry::Drive::free || (dr == geometry::Drive::top && !m.top_prescribed);
     };
-    auto omega2_of = [&](int e, const std::vector<double>& scale) {
+    double omega2 = 0;
+    for (int e = 0; e < ne; ++e) {
+      if (!is_free(e)) continue;
       const int t = map.elem_type[e];
       const auto& T = types[t];
       double w2 = 0;
       for (int i = 0; i < 2 * T.nodes; ++i) w2 = std::max(w2, row[e * nd + i] / T.mass(i));
-      return (lam[t] + w2) / scale[t];
-    };
-    std::vector<double> scale(nt, 1.0);
-    double omega2 = 0;
-    for (int e = 0; e < ne; ++e)
-      if (is_free(e)) omega2 = std::max(omega2, omega2_of(e, scale));
+      omega2 = std::max(omega2, lam_t[t] + w2);
+    }
     m.step_estimate = omega2 > 0 ? 2.0 / std::sqrt(omega2) : p.dt;
   }
 
@@ -564,16 +575,7 @@ void set_model_step(Model<>& m, double h) {
   auto M = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
   auto N = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.type_nodes);
   auto A = Kokkos::create_mirror_view(m.Ainv);
-  Kokkos::deep_copy(A, 0.0);
-  for (int t = 0; t < m.n_types; ++t) {  // as build_model: ((1 + h alpha/2) M + h beta/2 K)^-1
-    const int d = 2 * N(t);
-    Eigen::MatrixXd Amat = Eigen::MatrixXd::Zero(d, d);
-    for (int i = 0; i < d; ++i)
-      for (int j = 0; j < d; ++j) Amat(i, j) = (0.5 * h * m.beta) * K(t, i, j) + (i == j ? (1.0 + 0.5 * h * m.alpha) * M(t, i) : 0.0);
-    const Eigen::MatrixXd Ai = Amat.ldlt().solve(Eigen::MatrixXd::Identity(d, d));
-    for (int i = 0; i < d; ++i)
-      for (int j = 0; j < d; ++j) A(t, i, j) = Ai(i, j);
-  }
+  step_tables(m, K, M, N, A);
   Kokkos::deep_copy(m.Ainv, A);
 }
 

@@ -12,7 +12,7 @@
 //  - (chunk checks only) Params::growth_factor > 0 and one element's share of the energy grew by
 //    more than that factor per check in growth_checks consecutive checks (monitor.hpp);
 //  - (chunk checks only) Params::step_check, fixed dt, and the estimated critical step of the
-//    current tangent stiffness (monitor.hpp StepBound x step_calibration) fell below dt.
+//    current tangent stiffness (monitor.hpp StepBound) fell below dt.
 // On failure the chunk is replayed step by step from a copy, so the state is left at the last
 // step that passes the per-step checks (the run is deterministic, the replay takes the same
 // path); a failure only the chunk checks see leaves the state at the chunk's start.
@@ -30,7 +30,6 @@
 namespace nacre::dyn {
 
 namespace {
-constexpr int kCheckEvery = 32;
 constexpr double kBlowUpFactor = 10.0;
 constexpr double kTinyEnergy = 1e-20;
 /// elements below this share of the energy are not watched for growth (rounding-level shares
@@ -66,7 +65,6 @@ struct Simulation::Impl {
   Kokkos::View<double*, Mem> share;
   Kokkos::View<std::int16_t*, Mem> run;
   StepReport report;
-  bool chunk_only = false;  ///< the last failed check was one the per-step replay does not run
   // BIE (bie.hpp): J^-1 per type, slot order, p_n / v_n and the residual block
   BieTables<> bie;
   DofView<Mem> pn, vn, R;
@@ -215,20 +213,33 @@ struct Simulation::Impl {
   double strain() { return element_sum(space, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
   double cohesive() { return cohesive_energy(space, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
 
-  /// The balance residual as Energies reports it, (W + E_in - (S + K + C + D)) / max|term|.
-  double balance(double& strain_e, double& kin, double& coh, double& damp, double& work) {
-    strain_e = strain(), kin = kinetic(false, false), coh = cohesive(), damp = sum_acc(kDamp), work = sum_acc(kWork);
-    const double scale = std::max({std::abs(strain_e), std::abs(kin), std::abs(coh), std::abs(damp), std::abs(work),
-                                   std::abs(e_in)});
-    const double res = work + e_in - (strain_e + kin + coh + damp);
-    return scale > 0 ? res / scale : 0.0;
+  /// The energy books now; the balance residual is (W + E_in - (S + K + C + D)) / max|term|.
+  Energies energies() {
+    Energies e;
+    e.strain = strain();
+    e.kinetic = kinetic(false, false);
+    e.cohesive = cohesive();
+    e.damping_dissipated = sum_acc(kDamp);
+    e.external_work = sum_acc(kWork);
+    const double scale = std::max({std::abs(e.strain), std::abs(e.kinetic), std::abs(e.cohesive),
+                                   std::abs(e.damping_dissipated), std::abs(e.external_work), std::abs(e_in)});
+    const double res = e.external_work + e_in - (e.strain + e.kinetic + e.cohesive + e.damping_dissipated);
+    e.balance_residual = scale > 0 ? res / scale : 0.0;
+    return e;
+  }
+  /// Mechanical energy plus dissipation the books do not account for (0 for a state the run made).
+  double unaccounted(const Energies& e) const {
+    return e.strain + e.kinetic + e.cohesive + e.damping_dissipated - e.external_work - e_in;
   }
 
-  /// True when the state passes the checks (header); else fills `why`. `chunk`: the end of a
+  /// Outcome of a check: passed, failed one the per-step replay also runs (finite, kinetic bound,
+  /// balance), or failed one of the chunk checks only (growth, step bound).
+  enum class Health { ok, step_failure, chunk_failure };
+
+  /// The checks of the header on the current state; a failure fills `why`. `chunk`: the end of a
   /// step chunk (the growth and step-bound checks run there only).
-  bool healthy(bool chunk) {
+  Health healthy(bool chunk) {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::check");
-    chunk_only = false;
     const double ke = kinetic(true, true);
     const double w = sum_acc(kWork);
     const double bound = kBlowUpFactor * (std::abs(w) + std::abs(e_ref)) + kTinyEnergy;
@@ -238,33 +249,32 @@ struct Simulation::Impl {
     if (!std::isfinite(ke) || !std::isfinite(w)) {
       o << "non-finite " << (std::isfinite(ke) ? "external work" : "displacement, velocity or acceleration");
       why = o.str();
-      return false;
+      return Health::step_failure;
     }
     if (ke > bound) {
       o << "kinetic energy " << ke << " N mm exceeds the bound 10 (|external work| + |E_ref|) = " << bound << " N mm";
       why = o.str();
-      return false;
+      return Health::step_failure;
     }
-    double se = 0, kin = 0, coh = 0, dd = 0, work = 0;
+    Energies e;
     if (p.balance_tolerance > 0 || p.growth_factor > 0) {
-      const double res = balance(se, kin, coh, dd, work);
-      // from the first chunk's end on: the first steps of a start carry an O((h omega)^2) error of
-      // the books relative to the little energy put in yet (BIE at 40 ns: 2.2e-3 at step 2), not
-      // an instability
-      if (!(std::abs(res) <= p.balance_tolerance) && p.balance_tolerance > 0 && step >= kCheckEvery) {
-        o << "energy balance residual " << res << " exceeds balance_tolerance " << p.balance_tolerance
-          << " (work " << work << ", strain " << se << ", kinetic " << kin << ", cohesive " << coh << ", damping "
-          << dd << " N mm)";
+      e = energies();
+      // from the first chunk's end on (balance_checked): the first steps of a start carry an
+      // O((h omega)^2) error of the books relative to the little energy put in yet (BIE at 40 ns:
+      // 2.2e-3 at step 2), not an instability
+      if (p.balance_tolerance > 0 && balance_checked(step) && !(std::abs(e.balance_residual) <= p.balance_tolerance)) {
+        o << "energy balance residual " << e.balance_residual << " exceeds balance_tolerance " << p.balance_tolerance
+          << " (work " << e.external_work << ", strain " << e.strain << ", kinetic " << e.kinetic << ", cohesive "
+          << e.cohesive << ", damping " << e.damping_dissipated << " N mm)";
         why = o.str();
-        return false;
+        return Health::step_failure;
       }
     }
-    if (!chunk) return true;
-    chunk_only = true;  // a failure below is seen by the chunk checks only
-    if (p.growth_factor > 0 && se + kin > 0) {
+    if (!chunk) return Health::ok;
+    if (p.growth_factor > 0 && e.strain + e.kinetic > 0) {
       const ElementGrowth<Mem> g{StrainEnergy<Mem>{m.type, m.K, u, m.nd},
                                  KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
-                                 share, run, 1.0 / (se + kin), p.growth_factor, kGrowthFloor};
+                                 share, run, 1.0 / (e.strain + e.kinetic), p.growth_factor, kGrowthFloor};
       const auto gr = element_growth(space, g, m.n_elem);
       report.growth_longest = std::max(report.growth_longest, gr.val);
       if (gr.val >= p.growth_checks) {
@@ -273,7 +283,7 @@ struct Simulation::Impl {
           << p.growth_factor << "x per " << kCheckEvery << "-step check in " << gr.val
           << " checks in a row (now " << hs() << " of the specimen's strain + kinetic energy): a local instability";
         why = o.str();
-        return false;
+        return Health::chunk_failure;
       }
     }
     if (p.step_check) {
@@ -286,10 +296,10 @@ struct Simulation::Impl {
           o << ", interface " << report.iface << " penetrating " << report.penetration << " x1";
         o << "; use a smaller dt or dt_mode = \"adaptive\"";
         why = o.str();
-        return false;
+        return Health::chunk_failure;
       }
     }
-    return true;
+    return Health::ok;
   }
 
   /// Adaptive mode, after a passed chunk check: the step follows the bound, dt = dt0 * min(1,
@@ -348,9 +358,9 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
     const long start = I.step;
     for (long k = 0; k < chunk; ++k) I.step_once(space);
     space.fence();
-    if (!I.healthy(true)) {
-      if (I.chunk_only) {  // only a chunk check (growth, step bound) saw it: back to the chunk's
-        I.load_copy(space);  // start, which passed every check
+    if (const auto h = I.healthy(true); h != Impl::Health::ok) {
+      if (h == Impl::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
+        I.load_copy(space);                     // back to the chunk's start, which passed every check
         I.step = start;
         space.fence();
         return false;
@@ -362,7 +372,7 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
         I.save_copy(space);
         I.step_once(space);
         space.fence();
-        if (!I.healthy(false)) {
+        if (I.healthy(false) != Impl::Health::ok) {
           I.load_copy(space);
           --I.step;
           space.fence();
@@ -399,19 +409,8 @@ long Simulation::steps() const { return impl_->step; }
 double Simulation::displacement() const { return impl_->ramp.displacement(time()); }
 
 Energies Simulation::energies() const {
-  auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::energies");
-  Energies e;
-  e.strain = I.strain();
-  e.kinetic = I.kinetic(false, false);
-  e.cohesive = I.cohesive();
-  e.damping_dissipated = I.sum_acc(kDamp);
-  e.external_work = I.sum_acc(kWork);
-  const double scale = std::max({std::abs(e.strain), std::abs(e.kinetic), std::abs(e.cohesive),
-                                 std::abs(e.damping_dissipated), std::abs(e.external_work), std::abs(I.e_in)});
-  const double res = e.external_work + I.e_in - (e.strain + e.kinetic + e.cohesive + e.damping_dissipated);
-  e.balance_residual = scale > 0 ? res / scale : 0.0;
-  return e;
+  return impl_->energies();
 }
 
 double Simulation::reaction() const { return impl_->sum_driven(kReact); }
@@ -517,10 +516,9 @@ StateArrays Simulation::save_state() const {
   s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
   s["dacc"] = to_vector(I.dacc);
   // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
-  // changes, the step of the time base
-  // ... and the energy the books do not account for at the save (a restore that finds another
-  // value was set by hand)
-  const double unaccounted = I.strain() + I.kinetic(false, false) + I.cohesive() + I.sum_acc(kDamp) - I.sum_acc(kWork) - I.e_in;
+  // changes, the step of the time base, and the energy the books do not account for (a restore
+  // that finds another value was set by hand)
+  const double unaccounted = I.unaccounted(I.energies());
   s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t_base, I.p.dt, I.report.bound_start, I.e_in,
                 static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base), unaccounted};
   s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
@@ -559,11 +557,11 @@ void Simulation::restore_state(const StateArrays& a) {
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
   // then the mechanical energy not accounted for by work and dissipation becomes the reference,
   // and E_in, which the balance counts as energy put in.
-  const double emech = I.strain() + I.kinetic(false, false) + I.cohesive();
-  const double w = I.sum_acc(kWork), dd = I.sum_acc(kDamp);
-  const double unaccounted = emech + dd - w - e_in_saved;
-  I.e_ref = clock[2];
   I.e_in = e_in_saved;
+  const Energies e = I.energies();
+  const double emech = e.strain + e.kinetic + e.cohesive, w = e.external_work;
+  const double unaccounted = I.unaccounted(e);
+  I.e_ref = clock[2];
   // a state saved by save_state has the same unaccounted energy as at its save (older
   // checkpoints: none beyond 1e-3 of the energies); anything else was set by hand
   const double expected = v8 ? clock[9] : 0.0;

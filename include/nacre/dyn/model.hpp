@@ -112,8 +112,8 @@ struct Model {
   loading::Pattern pattern;                    ///< prescribed displacement of the driven edges
   bool top_prescribed = true;                  ///< false when force_top loads the top instead
   double brick_height = 0;                     ///< height of a whole brick (internal joints, docs)
-  double step_estimate = 0;  ///< 2 / sqrt(Gershgorin bound of M^-1 K_lin): a safe step, start of the bisection
-  int sliver_types = 0, sliver_elements = 0;  ///< element types / elements mass-scaled (Params::sliver_step_ratio)
+  double step_estimate = 0;  ///< the elastic start's StepBound (monitor.hpp), computed on the host: start of the bisection
+  int sliver_elements = 0;     ///< elements mass-scaled (Params::sliver_step_ratio)
   double sliver_mass_added = 0;              ///< mass they gained, relative to the specimen's
 };
 

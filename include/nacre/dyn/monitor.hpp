@@ -83,20 +83,28 @@ struct StepBound {
   }
 };
 
-/// \brief max over free elements of StepBound and the element that attains it (the lowest index
-/// among ties: deterministic).
+/// \brief max over i in [0, n) of term(i) and the lowest i that attains it (deterministic for any
+/// thread count); term returns a T.
+template <class T, class ExecutionSpace, class Term>
+typename Kokkos::MaxLoc<T, int>::value_type arg_max(const ExecutionSpace& space, const char* label, int n,
+                                                    const Term& term) {
+  using V = typename Kokkos::MaxLoc<T, int>::value_type;
+  V r;
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+      KOKKOS_LAMBDA(const int i, V& acc) {
+        const T x = term(i);
+        if (x > acc.val || (x == acc.val && i < acc.loc)) acc.val = x, acc.loc = i;
+      },
+      Kokkos::MaxLoc<T, int>(r));
+  return r;
+}
+
+/// \brief max over free elements of StepBound and the element that attains it.
 template <class ExecutionSpace>
 Kokkos::MaxLoc<double, int>::value_type step_bound(const ExecutionSpace& space,
                                                   const StepBound<MemOf<ExecutionSpace>>& sb, int n_elem) {
-  Kokkos::MaxLoc<double, int>::value_type r;
-  Kokkos::parallel_reduce(
-      "nacre::dyn::monitor::step_bound", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-      KOKKOS_LAMBDA(const int e, Kokkos::MaxLoc<double, int>::value_type& acc) {
-        const double w2 = sb(e);
-        if (w2 > acc.val || (w2 == acc.val && e < acc.loc)) acc.val = w2, acc.loc = e;
-      },
-      Kokkos::MaxLoc<double, int>(r));
-  return r;
+  return arg_max<double>(space, "nacre::dyn::monitor::step_bound", n_elem, sb);
 }
 
 /// \brief The interface that adds the most to element e's bound (its largest row), and the
@@ -151,18 +159,12 @@ struct ElementGrowth {
   }
 };
 
+/// \brief The longest growth run over the elements and its element (ElementGrowth updates every
+/// element's share and run as it goes).
 template <class ExecutionSpace>
 Kokkos::MaxLoc<int, int>::value_type element_growth(const ExecutionSpace& space,
                                                    const ElementGrowth<MemOf<ExecutionSpace>>& g, int n_elem) {
-  Kokkos::MaxLoc<int, int>::value_type r;
-  Kokkos::parallel_reduce(
-      "nacre::dyn::monitor::element_growth", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-      KOKKOS_LAMBDA(const int e, Kokkos::MaxLoc<int, int>::value_type& acc) {
-        const int n = g(e);
-        if (n > acc.val || (n == acc.val && e < acc.loc)) acc.val = n, acc.loc = e;
-      },
-      Kokkos::MaxLoc<int, int>(r));
-  return r;
+  return arg_max<int>(space, "nacre::dyn::monitor::element_growth", n_elem, g);
 }
 
 }  // namespace nacre::dyn

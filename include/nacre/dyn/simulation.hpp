@@ -115,10 +115,17 @@ struct Params {
   double sliver_step_ratio = 0;
 };
 
+/// \brief Steps per check chunk of Simulation::advance (docs/dynamics.md "Stability monitor").
+inline constexpr int kCheckEvery = 32;
+/// \brief Whether the energy balance is checked at step n: from the first chunk's end on (the
+/// first steps of a start carry an O((h omega)^2) error of the books relative to the little energy
+/// put in yet, which is no instability).
+constexpr bool balance_checked(long n) { return n >= kCheckEvery; }
+
 /// \brief What the step monitor saw at the last check.
 struct StepReport {
   double dt = 0;             ///< step in use
-  double bound = 0;          ///< 2 / sqrt(Gershgorin bound of M^-1 K_t) now, s (the explicit part: BIE interfaces only)
+  double bound = 0;          ///< 2 / sqrt(StepBound of M^-1 K_t) now, s (the explicit part: BIE interfaces only)
   double bound_start = 0;    ///< the same at the start of the run
   double estimate = 0;       ///< estimated critical step now (= bound: the step the run compares dt with)
   int element = -1, brick = -1;  ///< where the bound is attained
