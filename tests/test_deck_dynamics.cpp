@@ -137,6 +137,17 @@ TEST_CASE("bad [dynamics] values are errors with file, line and key", "[deck][dy
              StartsWith("dyn.toml:19: dynamics.alpha_d: given together with damping"));
   CHECK_THAT(error_of(base + "damping = \"rayleigh\"\n"), StartsWith("dyn.toml:18: dynamics.damping: unknown value"));
   CHECK_THAT(error_of(base + "ramp = \"cosine\"\n"), StartsWith("dyn.toml:18: dynamics.ramp: unknown value"));
+  // the stability monitor's keys (docs/dynamics.md "Stability monitor")
+  CHECK(parse_deck_string(base, "dyn.toml").dynamics.balance_tolerance == 1e-3);
+  CHECK(parse_deck_string(base, "dyn.toml").dynamics.dt_mode == "fixed");
+  CHECK(parse_deck_string(base, "dyn.toml").dynamics.sliver_step_ratio == 0.5);
+  CHECK(parse_deck_string(base + "dt_mode = \"adaptive\"\nbalance_tolerance = 0.0\nsliver_step_ratio = 0.0\n",
+                          "dyn.toml").dynamics.dt_mode == "adaptive");
+  CHECK_THAT(error_of(base + "balance_tolerance = -1e-3\n"),
+             StartsWith("dyn.toml:18: dynamics.balance_tolerance: value -0.001 out of range"));
+  CHECK_THAT(error_of(base + "balance_tolerance = 1.0\n"), StartsWith("dyn.toml:18: dynamics.balance_tolerance: value 1 out of range"));
+  CHECK_THAT(error_of(base + "dt_mode = \"auto\"\n"), StartsWith("dyn.toml:18: dynamics.dt_mode: unknown value"));
+  CHECK_THAT(error_of(base + "sliver_step_ratio = 1.5\n"), StartsWith("dyn.toml:18: dynamics.sliver_step_ratio: value 1.5 out of range"));
   CHECK_THAT(error_of(base + "ramp_time = 1.0\n"), StartsWith("dyn.toml:18: dynamics.ramp_time: ramp longer than the run"));
   CHECK_THAT(error_of(base + "csv_interval = 0\n"), StartsWith("dyn.toml:18: dynamics.csv_interval: value 0 out of range"));
   CHECK_THAT(error_of(base + "share_element_matrices = 1\n"), StartsWith("dyn.toml:18: dynamics.share_element_matrices: wrong type"));

@@ -163,6 +163,14 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   return p;
 }
 
+/// Whether the estimate (monitor.hpp StepBound) bounds the method's step: it treats BIE's bricks
+/// as unconditionally stable, which eq. 4.6's iterated step with stiffness damping is not (its
+/// limit falls to a fraction of the split step's, docs/methods.md "The split step"). There the
+/// bisection is the reference and the run takes the smaller of the two.
+bool estimate_bounds_step(const dyn::Params& p) {
+  return !(p.method == dyn::Method::bie && p.bie_scheme == dyn::BieScheme::iterate && p.beta_d != 0.0);
+}
+
 /// The stability monitor's estimate of the critical step at the start (monitor.hpp StepBound),
 /// and the elements it scaled: a Simulation built at the model's own start estimate.
 dyn::StepReport estimated_step(const dyn::Params& p, const Setup& s, const deck::Deck& d) {
@@ -183,16 +191,25 @@ int print_critical_step(const deck::Deck& d, bool quiet) {
     std::cerr << "nacre: error: critical step search failed (bisected " << h << ", estimated " << est.estimate << ")\n";
     return 1;
   }
+  // the step the run's dt_fraction takes (run_dynamics: the same rule)
+  const double critical = estimate_bounds_step(p) ? est.estimate : std::min(est.estimate, h);
   if (quiet) {
-    std::printf("%.6g\n", est.estimate);
+    std::printf("%.6g\n", critical);
     return 0;
   }
   std::printf("nacre: %s: %zu bricks, method %s%s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
               d.path.c_str(), s.specimen.size(), method_name(p.method), scheme_label(p), p.youngs_modulus,
               d.dynamics.ratio(), p.alpha_d, p.beta_d);
-  std::printf("critical step: %.6g s (estimated: 2 / sqrt of the largest element eigenvalue of M^-1 K plus the "
-              "interfaces' Gershgorin bound%s, at brick %d; what the run's dt_fraction and monitor use)\n",
-              est.estimate, p.method == dyn::Method::bie ? " (BIE: interfaces only, the explicit part)" : "", est.brick);
+  if (estimate_bounds_step(p))
+    std::printf("critical step: %.6g s (estimated: 2 / sqrt of the largest element eigenvalue of M^-1 K plus the "
+                "interfaces' Gershgorin bound%s, at brick %d; what the run's dt_fraction and monitor use)\n",
+                est.estimate, p.method == dyn::Method::bie ? " (BIE: interfaces only, the explicit part)" : "",
+                est.brick);
+  else
+    std::printf("critical step: %.6g s (the smaller of the estimate %.6g s, which treats the bricks as implicit and "
+                "unconditionally stable, and the bisection below: eq. 4.6's iterated step with stiffness damping is "
+                "limited by the damping too; what the run's dt_fraction uses)\n",
+                critical, est.estimate);
   std::printf("bisected step: %.6g s (relative tolerance %g: %ld-step trials from rest under the deck's load, "
               "finite with the balance within %g) = %.3f x the estimate%s\n",
               h, critical_rtol, critical_trial_steps, p.balance_tolerance, h / est.estimate,
@@ -202,10 +219,10 @@ int print_critical_step(const deck::Deck& d, bool quiet) {
                                                             "to be seen in it)"
                                                           : ""));
   if (d.dynamics.dt > 0)
-    std::printf("deck dt = %.6g s = %.3f x critical%s\n", d.dynamics.dt, d.dynamics.dt / est.estimate,
-                d.dynamics.dt > est.estimate ? " (ABOVE the critical step: the run stops at its first check)" : "");
+    std::printf("deck dt = %.6g s = %.3f x critical%s\n", d.dynamics.dt, d.dynamics.dt / critical,
+                d.dynamics.dt > critical ? " (ABOVE the critical step: the run stops at a check)" : "");
   else
-    std::printf("deck dt_fraction = %g: dt = %.6g s\n", d.dynamics.dt_fraction, d.dynamics.dt_fraction * est.estimate);
+    std::printf("deck dt_fraction = %g: dt = %.6g s\n", d.dynamics.dt_fraction, d.dynamics.dt_fraction * critical);
   return 0;
 }
 
@@ -243,6 +260,17 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     h_crit = sim.step_report().estimate;
     if (!std::isfinite(h_crit) || h_crit <= 0)
       throw std::runtime_error("critical step estimate failed (" + num(h_crit) + ")");
+    if (!estimate_bounds_step(p)) {  // the iterated BIE step with stiffness damping: bisect too
+      Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
+      dyn::Params q = p;
+      q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
+      const double hb = dyn::critical_step(q, specimen, interfaces, d.mortar, critical_trial_steps, critical_rtol);
+      if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
+      if (log)
+        *log << "nacre: the iterated BIE step with stiffness damping: bisected critical step " << hb
+             << " s against the estimate " << h_crit << " s; the smaller is used\n";
+      h_crit = std::min(h_crit, hb);
+    }
     p.dt = D.dt_fraction * h_crit;
     sim.set_initial_dt(p.dt);
     if (log)
