@@ -85,6 +85,9 @@ def cases(small):
     # the step adapts where compression stiffens the joints
     c.append(("be_compression_adaptive", "dynamic.toml", "be", 30, ['dt_mode = "adaptive"', "dt_fraction = 0.9"] + short,
               ["tension = -1.0", "bending = 0.0"], "closed"))
+    # BIE's iterated step with stiffness damping: the estimate does not bound it, the run bisects
+    c.append(("bie_iterate_beta_rot30", "dynamic_bie.toml", "bie", 30,
+              ["beta_d = 0.5905e-6", 'bie_scheme = "iterate"'] + short, [], "closed"))
     # UE (unbolted triangles, stiff internal joints: a step ~40x below BE's) rotated, over the
     # first 3 us (the crack has not started; the full 30 us is ~10 minutes here): full suite only
     if not small:
