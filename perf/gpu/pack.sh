@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # pack.sh — bundle everything perf/gpu/runbook.sh needs on a machine without network access:
 # nacre's sources (this checkout's committed state), the Kokkos / Kokkos Kernels tarballs and
-# the CUDA-13 patch (shared/deps), and the header-only libraries the benchmarks use (CLI11,
+# the CUDA-13 patch (the dependency sources, NACRE_DEPS: see docs/ci.md / devenv/nacre-env), and the header-only libraries the benchmarks use (CLI11,
 # Random123, Eigen's core headers), taken from the dev root. Run on the development machine:
 #   perf/gpu/pack.sh [OUT.tar.gz]        (default nacre-gpu-bundle.tar.gz)
 # Copy the tarball to the GPU machine, then: tar xzf nacre-gpu-bundle.tar.gz &&
@@ -9,7 +9,17 @@
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd -P)"
 OUT="$(realpath -m "${1:-nacre-gpu-bundle.tar.gz}")"
-DEPS="${NACRE_DEPS:-$REPO/../shared/deps}"; [ -d "$DEPS" ] || DEPS=/work/shared/deps
+# The dependency sources: NACRE_DEPS, else the nearest shared/deps beside the repository or beside
+# one of its parent directories (found as devenv/nacre-env finds them).
+DEPS="${NACRE_DEPS:-}"
+if [ -z "$DEPS" ] || [ ! -d "$DEPS" ]; then
+  DEPS="$REPO/../shared/deps"; d="$REPO/.."
+  while :; do
+    if [ -d "$d/shared/deps" ]; then DEPS="$d/shared/deps"; break; fi
+    if [ ! -d "$d" ] || [ "$d" -ef / ]; then break; fi
+    d="$d/.."
+  done
+fi
 ROOT="$("$REPO/devenv/nacre-env" path 2>/dev/null || echo /var/cache/nacre/devroot-v1)"
 INC="${NACRE_VENDOR_INCLUDE:-$ROOT/usr/include}"   # where CLI/ and Random123/ are
 stage="$(mktemp -d)"; trap 'rm -rf "$stage"' EXIT
