@@ -50,3 +50,14 @@ else()
   message(STATUS "nacre: Kokkos Kernels not found (set KokkosKernels_ROOT to use it): SKIPPING the "
                  "'kokkos-d1' colouring strategy, test_kokkos_kernels and nacre_perf_colouring")
 endif()
+
+# nlohmann-json (header-only) for summary.json: its CMake package, or the headers (the
+# benchmarks-only build leaves the outputs out: src/CMakeLists.txt).
+if(NOT NACRE_BENCHMARKS_ONLY)
+  find_package(nlohmann_json 3 QUIET CONFIG)
+  if(NOT TARGET nlohmann_json::nlohmann_json)
+    find_path(NACRE_NLOHMANN_INCLUDE nlohmann/json.hpp REQUIRED)
+    add_library(nlohmann_json::nlohmann_json INTERFACE IMPORTED)
+    target_include_directories(nlohmann_json::nlohmann_json INTERFACE ${NACRE_NLOHMANN_INCLUDE})
+  endif()
+endif()

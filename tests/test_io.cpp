@@ -11,6 +11,8 @@
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "../src/app/dyn_fields.hpp"
+
 #include <catch2/catch_test_macros.hpp>
 #include <catch2/matchers/catch_matchers_string.hpp>
 
@@ -255,6 +257,29 @@ TEST_CASE("a dynamic checkpoint without an array the state now holds is refused 
   } catch (const io::CheckpointError& e) {
     CHECK_THAT(e.what(), ContainsSubstring("cp.h5: array 'dacc' missing: the checkpoint was written by an older nacre"));
   }
+}
+
+TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state value is refused by name",
+          "[io][checkpoint][dyn]") {
+  // A checkpoint is written only from checked, finite states; one holding a NaN (a bug, or an
+  // edit that recomputed the checksum) must not seed a run.
+  const deck::Deck d = deck::parse_deck_file(NACRE_SOURCE_DIR "/tests/app/tiny_dynamic.toml");
+  app::DynCheckpoint c;
+  c.method = "be", c.step = 100, c.time = 1e-6, c.dt = 1e-8, c.end_time = d.dynamics.end_time;
+  for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
+  const auto path = std::filesystem::temp_directory_path() / ("nacre_nan_cp_" + std::to_string(::getpid()) + ".h5");
+  io::write_checkpoint(path, app::to_named(c, d));
+  CHECK_NOTHROW(app::read_dyn_checkpoint(path, d));
+  c.state.begin()->second[1] = std::numeric_limits<double>::quiet_NaN();
+  io::write_checkpoint(path, app::to_named(c, d));  // a valid checksum over the NaN
+  try {
+    (void)app::read_dyn_checkpoint(path, d);
+    FAIL("a checkpoint holding a NaN was accepted");
+  } catch (const io::CheckpointError& e) {
+    CHECK_THAT(e.what(), ContainsSubstring("state array '" + c.state.begin()->first +
+                                           "' holds a non-finite value at index 1"));
+  }
+  std::filesystem::remove(path);
 }
 
 TEST_CASE("a restart fingerprint names the first differing key", "[io][checkpoint][deck]") {

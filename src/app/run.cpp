@@ -12,6 +12,8 @@
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
+#include "driver.hpp"
+#include "dyn_fields.hpp"
 #include "progress.hpp"
 #include <nacre/app/run_dynamics.hpp>
 
@@ -22,30 +24,18 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <new>
 #include <optional>
-#include <spawn.h>
 #include <string_view>
-#include <sys/wait.h>
 #include <unistd.h>
-
-extern char** environ;
-
-#ifndef NACRE_PLOT_SCRIPT
-#define NACRE_PLOT_SCRIPT ""
-#endif
 
 namespace nacre::app {
 
 namespace {
-
-/// \brief A bad command line (exit 2).
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 /// \brief Integer-valued Kokkos flags are checked here: Kokkos aborts (exit 134, a backtrace)
 /// on "--kokkos-num-threads=abc". Other --kokkos-* flags are left to Kokkos.
@@ -75,53 +65,10 @@ void check_kokkos_flags(const std::vector<char*>& args) {
   }
 }
 
-/// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted);
-/// returns the exit status, or -1 when it could not be started.
-int spawn_and_wait(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 struct RunOptions {
   bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
 };
-
-/// \brief A new run (or a restart into another directory) sets up its output directory afresh;
-/// refuse (UsageError) when that would remove the checkpoint of an unfinished run, unless
-/// --overwrite. A finished run, or a checkpoint that could not be restarted anyway, is replaced.
-void check_not_overwriting(const deck::Deck& d, const RunOptions& opt) {
-  if (opt.overwrite) return;
-  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(cpath, ec)) return;
-  if (!opt.restart.empty()) {
-    std::filesystem::path src = std::filesystem::path(opt.restart).parent_path();
-    if (src.empty()) src = ".";
-    if (std::filesystem::equivalent(src, dir, ec) && !ec) return;  // continuing in place
-  }
-  io::Checkpoint c;
-  try {
-    c = io::read_checkpoint(cpath);
-  } catch (const io::CheckpointError&) {
-    return;
-  }
-  const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
-  const auto step = c.integers.find("step");
-  if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return;
-  throw UsageError(cpath.string() + " holds the checkpoint of an unfinished run (step " +
-                   (step == c.integers.end() ? std::string("?") : std::to_string(step->second)) + ", D = " +
-                   std::to_string(D->second) + " of " + std::to_string(F->second) +
-                   "), which this run would remove; continue it with --restart " + cpath.string() +
-                   ", write elsewhere with -o, or pass --overwrite to start afresh");
-}
 
 /// \brief The specimen of a deck, refused (DeckError) when no brick is free.
 void build(const deck::Deck& d, geometry::Specimen& specimen, geometry::Interfaces& interfaces, std::size_t& n_free) {
@@ -203,7 +150,9 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   std::optional<io::RunWriter::Resume> resume;
   if (cp) resume = io::RunWriter::Resume{cp->run.step, std::filesystem::path(restart).parent_path()};
   if (resume && resume->source_directory.empty()) resume->source_directory = ".";
-  io::RunWriter writer({d.output.directory, d.output.hdf5, mc::csv_header()}, specimen, interfaces, resume);
+  io::RunWriter::Options wo;
+  wo.directory = d.output.directory, wo.hdf5 = d.output.hdf5, wo.csv_header = mc::csv_header();
+  io::RunWriter writer(wo, specimen, interfaces, resume);
   if (log && writer.stale_temporaries_removed() > 0)
     *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
          << writer.directory().string() << "/\n";
@@ -245,7 +194,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   else if (heartbeat) solver.on_progress = heartbeat_line;
   auto dump = [&](int step) {
     writer.dump(mc::snapshot(solver, specimen, interfaces, step));
-    io::write_checkpoint(checkpoint_path, last);
+    writer.checkpoint(last);
   };
   if (!cp) dump(0);
   solver.run([&](const mc::StepRecord& r) {
@@ -271,7 +220,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     // The write in progress finished before the flag was seen; the step in progress is dropped
     // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
     const int sig = pending_signal();
-    io::write_checkpoint(checkpoint_path, last);
+    writer.checkpoint(last);
     std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << last.integer("step")
               << "; checkpoint written to " << checkpoint_path.string() << "\nnacre: continue with: nacre "
               << d.path << " -o " << writer.directory().string() << " --restart " << checkpoint_path.string() << "\n";
@@ -281,7 +230,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     // "not converged after N cycles": the rows of the completed steps stay in steps.csv, the
     // checkpoint holds the last completed step; no summary (the run did not finish).
     const auto& f = solver.failed_step();
-    io::write_checkpoint(checkpoint_path, last);
+    writer.checkpoint(last);
     std::cerr << "nacre: step " << f.step << " (D = " << f.displacement << ") not converged after " << f.cycles
               << " cycles" << (f.polish_iterations ? " and " + std::to_string(f.polish_iterations) + " polish iterations"
                                                    : std::string()) << ": residual " << f.residual << " > tolerance " << d.solver.residual_tolerance << " ("
@@ -302,18 +251,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     std::cerr << "nacre: " << signal_name(sig) << " received after the last step: results complete, charts skipped\n";
     return 128 + sig;
   }
-  if (d.output.charts) {
-    const char* env = std::getenv("NACRE_PLOT_SCRIPT");
-    const std::string script = env ? env : NACRE_PLOT_SCRIPT;
-    if (script.empty() || !std::filesystem::exists(script)) {
-      std::cerr << "nacre: warning: plotting script not found; charts skipped\n";
-    } else {
-      // an argument vector, no shell: the output path is never interpreted
-      const int rc = spawn_and_wait({"python3", script, writer.directory().string()});
-      if (rc != 0) std::cerr << "nacre: warning: chart script " << script << " failed (status " << rc << ")\n";
-      else if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
-    }
-  }
+  if (d.output.charts && !run_charts("nacre_plot.py", writer.directory(), log)) return 1;
   return 0;
 }
 
@@ -324,6 +262,9 @@ int main(int argc, char* argv[]) {
   // not in 4 KiB blocks at the end: stdout line-buffered even when it is not a terminal
   // (std::cout writes through stdio, sync_with_stdio is left on).
   std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG, which the atomic writers report
+  // by name and clean up, instead of killing the process silently with a temporary left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
@@ -386,6 +327,12 @@ int main(int argc, char* argv[]) {
       geometry::Specimen specimen;
       geometry::Interfaces interfaces;
       std::size_t n_free = 0;
+      if (d.dynamics.enabled) {  // the same validation as the run's (dyn_fields.hpp, run_dynamics)
+        const DynCheckpoint cp = validated_dyn_checkpoint(d, opt.restart, opt.extend);
+        std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.step
+                  << ", t = " << cp.time << " s of " << d.dynamics.end_time << " s)\n";
+        return 0;
+      }
       build(d, specimen, interfaces, n_free);
       const mc::Checkpoint cp = validated_checkpoint(d, opt, specimen.size(), n_free);
       std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.run.step
@@ -399,7 +346,7 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   try {
-    check_not_overwriting(d, opt);
+    check_not_overwriting(d, opt.restart, opt.overwrite);
   } catch (const UsageError& e) {
     std::cerr << "nacre: error: " << e.what() << "\n";
     return 2;
@@ -410,7 +357,7 @@ int main(int argc, char* argv[]) {
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
     if (critical) return print_critical_step(d, opt.quiet);
-    if (d.dynamics.enabled) return run_dynamics(d, opt.quiet, opt.tty, opt.restart);
+    if (d.dynamics.enabled) return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart});
     return run_deck(d, opt);
   } catch (const deck::DeckError& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";

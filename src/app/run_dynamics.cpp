@@ -3,15 +3,20 @@
 // restart, and the stop on instability (exit 3, last good outputs kept, no NaN written).
 #include <nacre/app/run_dynamics.hpp>
 
-#include "dyn_output.hpp"
+#include "driver.hpp"
+#include "dyn_fields.hpp"
 #include "progress.hpp"
 
 #include <nacre/app/signals.hpp>
+#include <nacre/deck/limits.hpp>
 #include <nacre/dyn/bie.hpp>
+#include <nacre/io/results.hpp>
 #include <nacre/geometry/specimen.hpp>
 
 #include <Kokkos_Core.hpp>
 #include <Kokkos_Profiling_ScopedRegion.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -22,10 +27,6 @@
 #include <iostream>
 #include <sstream>
 #include <utility>
-
-#ifndef NACRE_PLOT_SCRIPT
-#define NACRE_PLOT_SCRIPT ""
-#endif
 
 namespace nacre::app {
 
@@ -46,20 +47,6 @@ std::string num(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.10g", v);
   return b;
-}
-
-/// A JSON string literal of s (quotes, backslashes and control characters escaped).
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') o += '\\', o += c;
-    else if (static_cast<unsigned char>(c) < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-      o += b;
-    } else o += c;
-  }
-  return o + "\"";
 }
 
 struct Setup {
@@ -97,19 +84,6 @@ std::string non_finite(const dyn::StateArrays& a) {
     for (std::size_t i = 0; i < v.size(); ++i)
       if (!std::isfinite(v[i])) return "state array " + k + "[" + std::to_string(i) + "]";
   return "";
-}
-
-void run_charts(const std::filesystem::path& dir, std::ostream* log) {
-  const char* env = std::getenv("NACRE_PLOT_SCRIPT");
-  const std::filesystem::path mc_script = env ? env : NACRE_PLOT_SCRIPT;
-  const std::filesystem::path script = mc_script.parent_path() / "nacre_dyn_plot.py";
-  if (mc_script.empty() || !std::filesystem::exists(script)) {
-    std::cerr << "nacre: warning: plotting script nacre_dyn_plot.py not found; charts skipped\n";
-    return;
-  }
-  const std::string cmd = "python3 '" + script.string() + "' '" + dir.string() + "'";
-  if (std::system(cmd.c_str()) != 0) std::cerr << "nacre: warning: chart script failed: " << cmd << "\n";
-  else if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
 }
 
 /// " (split step)" / " (iterated step)" after BIE's name in the log lines, nothing for UE and BE.
@@ -226,10 +200,33 @@ int print_critical_step(const deck::Deck& d, bool quiet) {
   return 0;
 }
 
-int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& restart) {
+DynCheckpoint validated_dyn_checkpoint(const deck::Deck& d, const std::string& restart, bool extend) {
+  DynCheckpoint cp = read_dyn_checkpoint(restart, d);
+  const char* method = method_name(dynamics_params(d, 0).method);
+  if (cp.method != method)
+    throw io::CheckpointError(restart + ": checkpoint of method " + cp.method + ", the deck says " + method + " (" +
+                              d.where("dynamics.method") + ")");
+  char b[256];
+  const double end = d.dynamics.end_time;
+  if (cp.end_time > 0 && cp.end_time != end && !extend) {
+    std::snprintf(b, sizeof b, ": the checkpoint's run ends at end_time = %.9g s, this deck at %.9g s (", cp.end_time, end);
+    throw io::CheckpointError(restart + b + d.where("dynamics.end_time") +
+                              "); pass --extend to continue the run to the deck's end_time");
+  }
+  if (!(cp.time < end * (1 - 1e-12))) {
+    std::snprintf(b, sizeof b, ": the checkpoint is at t = %.9g s, at or beyond this deck's end_time = %.9g s (", cp.time, end);
+    throw io::CheckpointError(restart + b + d.where("dynamics.end_time") +
+                              "): nothing to continue; raise end_time and pass --extend to run further");
+  }
+  return cp;
+}
+
+int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
+  const bool quiet = opt.quiet, tty = opt.tty;
+  const std::string& restart = opt.restart;
   std::ostream* log = quiet ? nullptr : &std::cout;
   const auto& D = d.dynamics;
 
@@ -247,10 +244,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   DynCheckpoint cp;
   double h_crit = 0;  // the estimated critical step a dt_fraction deck took its dt from
   if (!restart.empty()) {
-    cp = DynWriter::read_checkpoint(restart, d);
-    if (cp.method != method_name(p.method))
-      throw std::runtime_error(restart + ": checkpoint of method " + cp.method + ", the deck says " +
-                               method_name(p.method));
+    cp = validated_dyn_checkpoint(d, restart, opt.extend);
     p.dt = cp.dt;  // the run continues with the step it started with
   }
   const bool from_fraction = restart.empty() && D.dt <= 0;
@@ -272,6 +266,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       h_crit = std::min(h_crit, hb);
     }
     p.dt = D.dt_fraction * h_crit;
+    deck::check_time_steps(d, p.dt, "dynamics.dt_fraction");  // e.g. end_time = 1e20: refused, not overflowed
     sim.set_initial_dt(p.dt);
     if (log)
       *log << "nacre: estimated critical step " << h_crit << " s, dt = " << D.dt_fraction << " x = " << p.dt << " s ("
@@ -303,7 +298,20 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     *log << "nacre: stability monitor: balance within " << D.balance_tolerance << ", dt " << (adaptive ? "adaptive" : "fixed")
          << ", estimated critical step " << sim.step_report().estimate << " s at the start\n";
 
-  DynWriter writer(d, specimen, interfaces, sim.snapshot(), restart.empty() ? -1 : cp.step);
+  const DynFields fields(specimen, interfaces, sim.snapshot());
+  std::optional<io::RunWriter::Resume> resume;
+  if (!restart.empty()) {
+    resume = io::RunWriter::Resume{cp.step, std::filesystem::path(restart).parent_path()};
+    if (resume->source_directory.empty()) resume->source_directory = ".";
+  }
+  // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
+  io::RunWriter::Options wo;
+  wo.directory = d.output.directory, wo.hdf5 = d.output.hdf5, wo.csv_header = series_header();
+  wo.csv_name = "series.csv", wo.dump_digits = 9, wo.elements = fields.mesh();
+  io::RunWriter writer(wo, specimen, interfaces, resume);
+  if (log && writer.stale_temporaries_removed() > 0)
+    *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
+         << writer.directory().string() << "/\n";
   auto make_row = [&] {
     SeriesRow r;
     r.step = sim.steps();
@@ -322,6 +330,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     c.step = sim.steps();
     c.time = sim.time();
     c.dt = p.dt;
+    c.end_time = D.end_time;
     c.method = method_name(p.method);
     c.state = sim.save_state();
     return c;
@@ -333,39 +342,54 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   const bool progress = tty && d.output.progress && !quiet;
 
   auto summary = [&] {
-    std::ostringstream j;
-    j << "{\n  \"deck\": " << json_string(d.path) << ",\n  \"solver\": \"dynamics\",\n  \"method\": \"" << method_name(p.method)
-      << "\",\n  \"bie_scheme\": " << (p.method == dyn::Method::bie ? (p.bie_scheme == dyn::BieScheme::split ? "\"split\"" : "\"iterate\"") : "null")
-      << ",\n  \"status\": \"" << status << "\",\n  \"bricks\": " << specimen.size()
-      << ",\n  \"interfaces\": " << interfaces.size() << ",\n  \"element_types\": " << sim.element_types()
-      << ",\n  \"device_bytes\": " << sim.bytes() << ",\n  \"youngs_modulus\": " << num(p.youngs_modulus)
-      << ",\n  \"stiffness_ratio\": " << num(D.ratio()) << ",\n  \"alpha_d\": " << num(p.alpha_d)
-      << ",\n  \"beta_d\": " << num(p.beta_d) << ",\n  \"dt\": " << num(p.dt)
-      << ",\n  \"dt_mode\": \"" << (adaptive ? "adaptive" : "fixed") << "\",\n  \"dt_final\": " << num(sim.dt())
-      << ",\n  \"dt_changes\": " << sim.step_report().dt_changes
-      << ",\n  \"critical_estimate\": " << num(sim.step_report().estimate)
-      << ",\n  \"step_bound_start\": " << num(sim.step_report().bound_start)
-      << ",\n  \"controlling_brick\": " << sim.step_report().brick
-      << ",\n  \"growth_longest_run\": " << sim.step_report().growth_longest
-      << ",\n  \"balance_tolerance\": " << num(D.balance_tolerance)
-      << ",\n  \"worst_balance_residual\": " << num(worst_balance)
-      << ",\n  \"sliver_step_ratio\": " << num(p.sliver_step_ratio) << ",\n  \"sliver_elements\": " << sim.sliver_elements()
-      << ",\n  \"sliver_mass_added\": " << num(sim.sliver_mass_added())
-      << ",\n  \"why\": " << (why.empty() ? std::string("null") : json_string(why))
-      << ",\n  \"critical_step\": " << (h_crit > 0 ? num(h_crit) : "null") << ",\n  \"steps\": " << sim.steps()
-      << ",\n  \"time\": " << num(sim.time()) << ",\n  \"end_time\": " << num(D.end_time)
-      << ",\n  \"ruptured\": " << sim.ruptured() << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency()
-      << ",\n  \"execution_space\": \"" << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"seconds\": "
-      << num(elapsed()) << ",\n  \"seconds_per_step\": "
-      << num(sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0.0) << "\n}\n";
-    writer.summary(j.str());
+    nlohmann::ordered_json j;
+    const auto& sr = sim.step_report();
+    j["deck"] = d.path;
+    j["solver"] = "dynamics";
+    j["method"] = method_name(p.method);
+    j["bie_scheme"] = p.method == dyn::Method::bie ? nlohmann::ordered_json(p.bie_scheme == dyn::BieScheme::split ? "split" : "iterate")
+                                                   : nlohmann::ordered_json(nullptr);
+    j["status"] = status;
+    j["bricks"] = specimen.size();
+    j["interfaces"] = interfaces.size();
+    j["element_types"] = sim.element_types();
+    j["device_bytes"] = sim.bytes();
+    j["youngs_modulus"] = p.youngs_modulus;
+    j["stiffness_ratio"] = D.ratio();
+    j["alpha_d"] = p.alpha_d;
+    j["beta_d"] = p.beta_d;
+    j["dt"] = p.dt;
+    j["dt_mode"] = adaptive ? "adaptive" : "fixed";
+    j["dt_final"] = sim.dt();
+    j["dt_changes"] = sr.dt_changes;
+    j["critical_estimate"] = sr.estimate;
+    j["step_bound_start"] = sr.bound_start;
+    j["controlling_brick"] = sr.brick;
+    j["growth_longest_run"] = sr.growth_longest;
+    j["balance_tolerance"] = D.balance_tolerance;
+    j["worst_balance_residual"] = worst_balance;
+    j["sliver_step_ratio"] = p.sliver_step_ratio;
+    j["sliver_elements"] = sim.sliver_elements();
+    j["sliver_mass_added"] = sim.sliver_mass_added();
+    j["why"] = why.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(why);
+    j["critical_step"] = h_crit > 0 ? nlohmann::ordered_json(h_crit) : nlohmann::ordered_json(nullptr);
+    j["steps"] = sim.steps();
+    j["time"] = sim.time();
+    j["end_time"] = D.end_time;
+    j["ruptured"] = sim.ruptured();
+    j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
+    j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
+    j["seconds"] = elapsed();
+    j["seconds_per_step"] = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0.0;
+    // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
+    writer.summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
   };
   // Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.
   auto unstable = [&](const std::string& message) {
     if (progress) std::fprintf(stderr, "\n");
     status = "unstable";
     why = message;
-    writer.flush_series();
+    writer.flush_rows();
     summary();
     std::cerr << "nacre: error: unstable: " << message << "\n"
               << "nacre: kept " << writer.rows() << " rows of series.csv; last dump and checkpoint at step "
@@ -376,10 +400,11 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
   if (restart.empty()) {
     const SeriesRow r = make_row();
     if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer.row(r);
+    writer.row(r.step, series_line(r), false);
     const dyn::Snapshot snap = sim.snapshot();
     if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer.dump(0, snap, checkpoint());
+    writer.dump(fields.fields(0, snap));
+    writer.checkpoint(to_named(checkpoint(), d));
   }
 
   SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
@@ -410,7 +435,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     if (auto q = non_finite(r); !q.empty())
       return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
     // advance() checked this state (its last chunk ends here), balance included: the row's books close
-    writer.row(r);
+    writer.row(step, series_line(r), false);
     if (dyn::balance_checked(step)) worst_balance = std::max(worst_balance, std::abs(r.e.balance_residual));
     const bool dump = finished() || (D.dump_interval > 0 && step % D.dump_interval == 0);
     if (dump) {
@@ -420,7 +445,8 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       DynCheckpoint c = checkpoint();
       if (auto q = non_finite(c.state); !q.empty())
         return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-      writer.dump(step, snap, c);
+      writer.dump(fields.fields(step, snap));  // the rows first, then the dump, then the checkpoint
+      writer.checkpoint(to_named(c, d));
       last_flush = elapsed();
       if (log && !progress) {
         last_line = elapsed();
@@ -430,7 +456,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
       }
     } else {
       if (elapsed() - last_flush > 2.0) {
-        writer.flush_series();
+        writer.flush_rows();
         last_flush = elapsed();
       }
       if (heartbeat && elapsed() - last_line >= d.output.heartbeat) {
@@ -447,9 +473,9 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
         DynCheckpoint c = checkpoint();
         if (auto q = non_finite(c.state); !q.empty())
           return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-        writer.write_checkpoint(writer.directory() / "checkpoint.h5", c);
+        writer.checkpoint(to_named(c, d));  // after the rows it continues
       }
-      writer.flush_series();
+      writer.flush_rows();
       status = "interrupted";
       summary();
       std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
@@ -468,7 +494,7 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     }
   }
   if (progress) std::fprintf(stderr, "\n");
-  writer.flush_series();
+  writer.flush_rows();
   summary();
   if (log) {
     const double per = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0;
@@ -477,7 +503,11 @@ int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& r
     *log << "nacre: results in " << writer.directory().string()
          << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
   }
-  if (d.output.charts) run_charts(writer.directory(), log);
+  if (const int sig = pending_signal()) {  // in the last chunk: the results are complete
+    std::cerr << "nacre: " << signal_name(sig) << " received during the last chunk: results complete, charts skipped\n";
+    return 128 + sig;
+  }
+  if (d.output.charts && !run_charts("nacre_dyn_plot.py", writer.directory(), log)) return 1;
   return 0;
 }
 

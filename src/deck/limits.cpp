@@ -133,6 +133,15 @@ Estimate estimate(const Deck& d) {
   return e;
 }
 
+void check_time_steps(const Deck& d, double dt, const std::string& key) {
+  const double steps = d.dynamics.end_time / dt;
+  if (!(steps <= d.limits.max_time_steps))
+    throw DeckError(d.where(d.lines.count(key) ? key : std::string("dynamics.end_time")) + ": end_time / dt = " +
+                    fmt(d.dynamics.end_time) + " s / " + fmt(dt) + " s = " + fmt(steps) +
+                    " time steps, above the limit of " + fmt(d.limits.max_time_steps) +
+                    "; expected a larger dt or a shorter end_time, or raise [limits] max_time_steps if intended");
+}
+
 void check_limits(const Deck& d) {
   // the key as the deck wrote it: its Table 2.1 alias, or for a law the [mortar.bed]/[mortar.head] override
   static const std::map<std::string, std::vector<std::string>> spelled = {
@@ -190,6 +199,7 @@ void check_limits(const Deck& d) {
                    "; expected fewer bricks, or raise [limits] max_memory_gib if the machine has the memory");
   const std::string step_key = d.load.adaptive && d.load.min_step < d.load.initial_step ? "load.min_step"
                                                                                        : "load.initial_step";
+  if (d.dynamics.enabled && d.dynamics.dt > 0) check_time_steps(d, d.dynamics.dt, "dynamics.dt");
   if (!(e.load_steps <= Li.max_load_steps))
     fail(step_key, "final_displacement / increment = " + fmt(e.load_steps) + " load steps, above the limit of " +
                    fmt(Li.max_load_steps) + "; expected a larger increment, or raise [limits] max_load_steps "

@@ -56,6 +56,17 @@ int injected_write_failure(const std::filesystem::path& target) {
   return 0;
 }
 
+void injected_kill_after_commit(const std::filesystem::path& target) {
+  static int seen = 0;  // commits of the named file so far
+  const char* env = std::getenv("NACRE_INJECT_KILL_AFTER");
+  if (!env || !*env) return;
+  const std::string_view spec(env);
+  const auto colon = spec.find(':');
+  if (spec.substr(0, colon) != target.filename().string()) return;
+  const int n = colon == std::string_view::npos ? 1 : std::atoi(std::string(spec.substr(colon + 1)).c_str());
+  if (++seen >= n) ::kill(::getpid(), SIGKILL);
+}
+
 void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
   AtomicPath ap(path);
   const int fd = ::open(ap.temp().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -97,6 +108,7 @@ void AtomicPath::commit() {
   if (const int derr = fsync_path(target_.parent_path(), true))
     throw WriteError(write_error_message(target_.parent_path(), derr, "directory sync after renaming " +
                                                                           target_.filename().string()));
+  injected_kill_after_commit(target_);
 }
 
 int remove_stale_temporaries(const std::filesystem::path& dir) {

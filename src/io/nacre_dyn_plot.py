@@ -20,6 +20,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from nacre_plot import save_png  # noqa: E402  (one atomic PNG writer for both scripts)
+
 RASTER_TRIANGLES = 200_000  # ~50k bricks: past this, polygons are sub-pixel at dpi 130
 
 
@@ -50,7 +53,7 @@ def energy_force(out, s):
     a2.set_ylabel("ruptured interfaces", color="C3")
     fig.suptitle(os.path.basename(os.path.abspath(out)))
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "energy_force.png"), dpi=120)
+    save_png(fig, os.path.join(out, "energy_force.png"), dpi=120)
     plt.close(fig)
 
 
@@ -129,7 +132,7 @@ def crack(out, dump, magnify=None, target=None, raster=None):
     ax.set_ylabel("y (mm)")
     ax.set_title(f"t = {time * 1e6:.4g} µs, D = {disp:.4g} mm (displacements x{mag:.3g}): {nr} ruptured (black)")
     fig.tight_layout()
-    fig.savefig(target or os.path.join(out, "crack.png"), dpi=130)
+    save_png(fig, target or os.path.join(out, "crack.png"), dpi=130)
     plt.close(fig)
 
 

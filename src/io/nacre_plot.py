@@ -14,6 +14,19 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 
+
+def save_png(fig, path, **kw):
+    """Write the chart to a temporary sibling and rename it: a failure (a full disk) leaves no
+    truncated PNG under the final name, and the script exits non-zero."""
+    tmp = os.path.join(os.path.dirname(path) or ".", "." + os.path.basename(path) + ".tmp%d" % os.getpid())
+    try:
+        fig.savefig(tmp, format="png", **kw)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
 def main(out):
     rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
     D = np.array([0.0] + [float(r["displacement"]) for r in rows])
@@ -37,7 +50,7 @@ def main(out):
     a2.set_ylabel("ruptured interfaces", color="C3")
     fig.suptitle(os.path.basename(os.path.abspath(out)))
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "energy_force.png"), dpi=120)
+    save_png(fig, os.path.join(out, "energy_force.png"), dpi=120)
     plt.close(fig)
 
     # nacre's dumps only (dump_NNNNN.h5): a stray dump_final.h5 or dump_7.h5.bak is not one
@@ -86,7 +99,7 @@ def main(out):
     ax.set_title(f"D = {disp:.4g} (displacements x{mag:.0f}): {len(broken)} ruptured (red), "
                  f"{len(soft)} softening (orange)")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "crack.png"), dpi=120)
+    save_png(fig, os.path.join(out, "crack.png"), dpi=120)
     plt.close(fig)
 
 

@@ -1,6 +1,7 @@
-// The output directory of a run: CSV rows, mesh, dumps of named fields, the XDMF index and the
-// summary, each written atomically. Knows geometry, not solvers (issue 7 §1); restarts keep or
-// set up the directory only after the caller validated the checkpoint (issue 6 point 2).
+// The output directory of a run of either solver family: CSV rows, mesh, dumps of named fields,
+// the XDMF index, the checkpoint and the summary, each written atomically and in the order a
+// restart relies on. Knows geometry, not solvers; restarts keep or set up the directory only
+// after the caller validated the checkpoint.
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/hdf5_writer.hpp>
 #include <nacre/io/results.hpp>
@@ -22,35 +23,37 @@ std::string num(double v) {
 
 /// \brief Files a run owns in its directory (a new run removes them; others are left alone).
 bool ours(const std::string& n) {
-  return dump_step(n).has_value() || n == "mesh.h5" || n == "nacre.xdmf" || n == "steps.csv" ||
+  return dump_step(n).has_value() || n == "mesh.h5" || n == "nacre.xdmf" || n == "steps.csv" || n == "series.csv" ||
          n == "summary.json" || n == "energy_force.png" || n == "crack.png" || n == "checkpoint.h5";
 }
 
 /// \brief The step of a CSV row ("12,0.3,..."), parsed strictly.
-std::optional<int> row_step(const std::string& line) {
+std::optional<long> row_step(const std::string& line) {
   const auto comma = line.find(',');
   if (comma == std::string::npos || comma == 0) return std::nullopt;
-  int v = -1;
+  long v = -1;
   const auto [p, ec] = std::from_chars(line.data(), line.data() + comma, v);
   if (ec != std::errc() || p != line.data() + comma || v < 0) return std::nullopt;
   return v;
 }
 
-const char* group_of(Centre c) {
+/// \brief The HDF5 group of a field: with a triangle mesh vertex fields live on its nodes.
+const char* group_of(Centre c, bool triangles) {
   switch (c) {
-    case Centre::element: return "/elements";
+    case Centre::element: return triangles ? "/triangles" : "/elements";
     case Centre::interface: return "/interfaces";
+    case Centre::vertex: return triangles ? "/nodes" : "/bricks";
     default: return "/bricks";
   }
 }
 }  // namespace
 
-std::optional<int> dump_step(const std::string& n) {
+std::optional<long> dump_step(const std::string& n) {
   if (n.size() < 9 || !n.starts_with("dump_") || !n.ends_with(".h5")) return std::nullopt;
   const char* b = n.data() + 5;
   const char* e = n.data() + n.size() - 3;
   if (!std::all_of(b, e, [](char ch) { return ch >= '0' && ch <= '9'; })) return std::nullopt;
-  int v = -1;
+  long v = -1;
   const auto [p, ec] = std::from_chars(b, e, v);
   if (ec != std::errc() || p != e) return std::nullopt;
   return v;
@@ -66,30 +69,21 @@ RunWriter::RunWriter(Options o, const geometry::Specimen& s, const geometry::Int
   const bool same_dir = resume && std::filesystem::equivalent(resume->source_directory, dir, ec) && !ec;
   if (resume && same_dir) {
     // A restart keeps the rows and dumps up to the checkpoint's step and drops later ones.
-    std::ifstream in(dir / "steps.csv");
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      const auto st = row_step(line);
-      if (!st || *st > resume->step) break;
-      csv_ += line + "\n";
-      last_step_ = *st;
-    }
-    std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir)) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    for (const auto& p : files) {
-      const auto step = dump_step(p.filename().string());
-      if (!step) continue;  // not a dump of ours (dump_final.h5, backups): left alone
-      if (*step > resume->step) {
+    keep_rows(dir / o_.csv_name, resume->step);
+    std::vector<std::pair<long, std::filesystem::path>> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      if (const auto step = dump_step(e.path().filename().string())) files.emplace_back(*step, e.path());
+    std::sort(files.begin(), files.end());  // by step: names of other widths sort the same
+    for (const auto& [step, p] : files) {  // not a dump of ours (dump_final.h5, backups): left alone
+      if (step > resume->step) {
         std::filesystem::remove(p);
         continue;
       }
       const H5Reader h(p.string());
       const double t = h.attributes().count("time") ? h.attribute("time") : h.attribute("displacement");
-      dumps_.push_back({*step, t, p.filename().string()});
+      dumps_.push_back({step, t, p.filename().string()});
     }
-    write_file_atomic(dir / "steps.csv", csv_);
+    write_file_atomic(dir / o_.csv_name, csv_);
     // the mesh is a function of the geometry alone: rewritten when missing or from a version
     // without the interfaces' connectivity
     if (o_.hdf5 && (!std::filesystem::exists(dir / "mesh.h5") ||
@@ -103,21 +97,25 @@ RunWriter::RunWriter(Options o, const geometry::Specimen& s, const geometry::Int
     std::error_code rec;
     if (ours(e.path().filename().string()) && e.is_regular_file(rec)) std::filesystem::remove(e.path());
   }
-  if (resume) {  // the source's history up to the checkpoint, so steps.csv is complete here too
-    std::ifstream in(resume->source_directory / "steps.csv");
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      const auto st = row_step(line);
-      if (!st || *st > resume->step) break;
-      csv_ += line + "\n";
-      last_step_ = *st;
-    }
-  }
-  // steps.csv exists from the start (header only until a step completes), so a run that stops
-  // in its first step still leaves its table
-  write_file_atomic(dir / "steps.csv", csv_);
+  // the source's history up to the checkpoint, so the table is complete here too
+  if (resume) keep_rows(resume->source_directory / o_.csv_name, resume->step);
+  // the table exists from the start (header only until a row comes), so a run that stops in
+  // its first step still leaves it
+  write_file_atomic(dir / o_.csv_name, csv_);
   if (o_.hdf5) write_mesh();
+}
+
+void RunWriter::keep_rows(const std::filesystem::path& table, long up_to) {
+  std::ifstream in(table);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    const auto st = row_step(line);
+    if (!st || *st > up_to) break;
+    csv_ += line + "\n";
+    last_step_ = *st;
+    ++rows_;
+  }
 }
 
 void RunWriter::write_mesh() const {
@@ -164,6 +162,14 @@ void RunWriter::write_mesh() const {
     std::vector<std::int32_t> conn(2 * f.size());
     for (std::size_t i = 0; i < conn.size(); ++i) conn[i] = static_cast<std::int32_t>(i);
     h.write("/interfaces/connectivity", conn, 2);
+    if (o_.elements) {  // deformable bricks: the triangle mesh the dumps' node fields live on
+      const TriangleMesh& m = *o_.elements;
+      h.group("/nodes");
+      h.write("/nodes/reference", m.reference, 2);
+      h.group("/triangles");
+      h.write("/triangles/connectivity", m.connectivity, 3);
+      h.write("/triangles/brick", m.brick);
+    }
     h.attribute("width", s.width);
     h.attribute("height", s.height);
     h.close();
@@ -171,16 +177,26 @@ void RunWriter::write_mesh() const {
   ap.commit();
 }
 
-void RunWriter::row(int step, const std::string& csv_line) {
+void RunWriter::row(long step, const std::string& csv_line, bool durable) {
   last_step_ = step;
   csv_ += csv_line;
-  write_file_atomic(o_.directory / "steps.csv", csv_);
+  ++rows_;
+  pending_ = true;
+  if (durable) flush_rows();
+}
+
+void RunWriter::flush_rows() {
+  if (!pending_) return;
+  write_file_atomic(o_.directory / o_.csv_name, csv_);
+  pending_ = false;
 }
 
 void RunWriter::dump(const Snapshot& snap) {
+  flush_rows();
   if (!o_.hdf5) return;
-  char name[32];
-  std::snprintf(name, sizeof name, "dump_%05d.h5", snap.step);
+  const bool tri = o_.elements.has_value();
+  char name[48];
+  std::snprintf(name, sizeof name, "dump_%0*ld.h5", o_.dump_digits, snap.step);
   std::vector<Layout> layout;
   AtomicPath ap(o_.directory / name);
   {
@@ -189,16 +205,15 @@ void RunWriter::dump(const Snapshot& snap) {
     h.attribute("time", snap.time);
     for (const auto& [n, v] : snap.reals) h.attribute(n, v);
     for (const auto& [n, v] : snap.integers) h.attribute(n, v);
-    bool made[3] = {false, false, false};
+    std::vector<std::string> made;
     for (const auto& fld : snap.fields) {
-      const char* g = group_of(fld.centre);
-      const int gi = fld.centre == Centre::element ? 1 : fld.centre == Centre::interface ? 2 : 0;
-      if (!made[gi]) h.group(g), made[gi] = true;
+      const std::string g = group_of(fld.centre, tri);
+      if (std::find(made.begin(), made.end(), g) == made.end()) h.group(g), made.push_back(g);
       std::size_t size = 0;
       std::visit(
           [&](const auto& v) {
             size = v.size();
-            h.write(std::string(g) + "/" + fld.name, v, fld.components);
+            h.write(g + "/" + fld.name, v, fld.components);
           },
           fld.data);
       layout.push_back({fld.centre, fld.name, fld.data.index(), fld.components, size / fld.components});
@@ -207,12 +222,19 @@ void RunWriter::dump(const Snapshot& snap) {
   }
   ap.commit();
   layout_ = std::move(layout);
+  std::erase_if(dumps_, [&](const DumpInfo& d) { return d.step == snap.step; });
   dumps_.push_back({snap.step, snap.time, name});
   write_xdmf();
 }
 
+void RunWriter::checkpoint(const Checkpoint& c) {
+  flush_rows();  // the rows up to the checkpoint's step are durable before it
+  write_checkpoint(checkpoint_path(), c);
+}
+
 void RunWriter::write_xdmf() const {
   const std::size_t n = s_.size(), ni = f_.size();
+  const bool tri = o_.elements.has_value();
   const std::size_t topo_len = 2 * n + s_.vx.size();
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n";
@@ -224,7 +246,7 @@ void RunWriter::write_xdmf() const {
     static const char* types[] = {"Float", "Int", "Char"};
     static const int precs[] = {8, 4, 1};
     const std::string dims = std::to_string(l.rows) + (l.components > 1 ? " " + std::to_string(l.components) : "");
-    item(dims, types[l.index], precs[l.index], file + ":" + group_of(l.centre) + "/" + l.name);
+    item(dims, types[l.index], precs[l.index], file + ":" + group_of(l.centre, tri) + "/" + l.name);
   };
   auto find = [&](Centre c, const char* name) -> const Layout* {
     for (const auto& l : layout_)
@@ -240,8 +262,28 @@ void RunWriter::write_xdmf() const {
       x << "   </Attribute>\n";
     }
   };
-  x << "<Grid Name=\"bricks\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  if (tri) {  // deformable bricks: the triangle mesh, its node and element fields
+    const std::size_t nn = o_.elements->nodes(), nt = o_.elements->triangles();
+    x << "<Grid Name=\"triangles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& d : dumps_) {
+      x << "  <Grid Name=\"triangles_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
+        << "\"/>\n   <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << nt << "\">\n";
+      item(std::to_string(nt) + " 3", "Int", 4, "mesh.h5:/triangles/connectivity");
+      x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
+      if (const Layout* p = find(Centre::vertex, "points")) field_item(*p, d.file);
+      else item(std::to_string(nn) + " 2", "Float", 8, "mesh.h5:/nodes/reference");
+      x << "   </Geometry>\n";
+      attributes(Centre::vertex, "Node", d.file);
+      attributes(Centre::element, "Cell", d.file);
+      x << "   <Attribute Name=\"brick\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+      item(std::to_string(nt), "Int", 4, "mesh.h5:/triangles/brick");
+      x << "   </Attribute>\n  </Grid>\n";
+    }
+    x << "</Grid>\n";
+  }
+  if (!tri) x << "<Grid Name=\"bricks\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& d : dumps_) {
+    if (tri) break;  // the bricks are drawn by their triangles
     x << "  <Grid Name=\"bricks_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
       << "\"/>\n   <Topology TopologyType=\"Mixed\" NumberOfElements=\"" << n << "\">\n";
     item(std::to_string(topo_len), "Int", 4, "mesh.h5:/bricks/topology");
@@ -255,7 +297,7 @@ void RunWriter::write_xdmf() const {
     item(std::to_string(n), "Char", 1, "mesh.h5:/bricks/drive");
     x << "   </Attribute>\n  </Grid>\n";
   }
-  x << "</Grid>\n";
+  if (!tri) x << "</Grid>\n";
   if (const Layout* ip = find(Centre::interface, "points")) {
     x << "<Grid Name=\"interfaces\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (const auto& d : dumps_) {
@@ -267,12 +309,12 @@ void RunWriter::write_xdmf() const {
       field_item(*ip, d.file);
       x << "   </Geometry>\n";
       attributes(Centre::interface, "Cell", d.file);
-      x << "  </Grid>\n";
+      x << "   <Attribute Name=\"kind\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+      item(std::to_string(ni), "Char", 1, "mesh.h5:/interfaces/kind");
+      x << "   </Attribute>\n  </Grid>\n";
     }
     x << "</Grid>\n";
   }
-  // Element fields (dynamics) are in the dumps under /elements; their grid needs the element
-  // topology, which the dynamics driver adds with its mesh.
   x << "</Domain>\n</Xdmf>\n";
   write_file_atomic(o_.directory / "nacre.xdmf", x.str());
 }

@@ -3,6 +3,9 @@
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
 
+#include <Kokkos_Core.hpp>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -84,32 +87,37 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
 std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds) {
   const auto& m = solver.model();
   const auto& pt = solver.times();
-  std::ostringstream j;
-  j << "{\n  \"deck\": \"" << d.path << "\",\n  \"bricks\": " << m.n_bricks << ",\n  \"free_bricks\": " << m.n_free
-    << ",\n  \"interfaces\": " << m.n_interfaces << ",\n  \"colouring\": \"" << m.colouring_name
-    << "\",\n  \"colouring_rule\": \"" << d.solver.colouring << "\",\n  \"colours\": " << (m.colour_offset.size() - 1)
-    << ",\n  \"rng\": \"" << d.solver.rng << "\",\n  \"seed\": " << d.seed
-    << ",\n  \"threads\": " << Kokkos::DefaultExecutionSpace().concurrency() << ",\n  \"execution_space\": \""
-    << Kokkos::DefaultExecutionSpace::name() << "\",\n  \"steps\": " << steps << ",\n  \"cycles\": "
-    << solver.global_cycle() << ",\n  \"seconds\": " << num(seconds) << ",\n  \"cpu_seconds\": "
-    << num(static_cast<double>(std::clock()) / CLOCKS_PER_SEC) << ",\n  \"phase_seconds\": {\"rng\": "
-    << num(pt.rng) << ", \"sweep\": " << num(pt.sweep) << ", \"energy\": " << num(pt.energy)
-    << ", \"polish\": " << num(pt.polish) << "},\n  \"relaxation\": \"" << d.solver.relaxation
-    << "\",\n  \"convergence\": \"" << d.solver.convergence
-    << "\",\n  \"residual_tolerance\": " << num(d.solver.residual_tolerance) << ",\n  \"polish\": \""
-    << d.solver.polish << "\",\n  \"residual_scale\": {\"force\": " << num(solver.residual_scale().force)
-    << ", \"moment\": " << num(solver.residual_scale().moment) << "},\n  \"max_step_residual\": "
-    << num(solver.max_step_residual()) << ",\n  \"polish_iterations\": " << solver.polish_iterations_total()
-    << ",\n  \"presimulation_seconds_per_cycle\": {";
-  bool first = true;
-  for (const auto& [name, sec] : solver.presim()) {
-    j << (first ? "" : ", ") << "\"" << name << "\": " << num(sec);
-    first = false;
-  }
-  j << "}";
-  if (!solver.presim().empty()) j << ",\n  \"presimulation_pick\": \"" << m.colouring_name << "\"";
-  j << "\n}\n";
-  return j.str();
+  nlohmann::ordered_json j;
+  j["deck"] = d.path;
+  j["solver"] = "mc";
+  j["bricks"] = m.n_bricks;
+  j["free_bricks"] = m.n_free;
+  j["interfaces"] = m.n_interfaces;
+  j["colouring"] = m.colouring_name;
+  j["colouring_rule"] = d.solver.colouring;
+  j["colours"] = m.colour_offset.size() - 1;
+  j["rng"] = d.solver.rng;
+  j["seed"] = d.seed;
+  j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
+  j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
+  j["steps"] = steps;
+  j["cycles"] = solver.global_cycle();
+  j["seconds"] = seconds;
+  j["cpu_seconds"] = static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+  j["phase_seconds"] = {{"rng", pt.rng}, {"sweep", pt.sweep}, {"energy", pt.energy}, {"polish", pt.polish}};
+  j["relaxation"] = d.solver.relaxation;
+  j["convergence"] = d.solver.convergence;
+  j["residual_tolerance"] = d.solver.residual_tolerance;
+  j["polish"] = d.solver.polish;
+  j["residual_scale"] = {{"force", solver.residual_scale().force}, {"moment", solver.residual_scale().moment}};
+  j["max_step_residual"] = solver.max_step_residual();
+  j["polish_iterations"] = solver.polish_iterations_total();
+  nlohmann::ordered_json presim = nlohmann::ordered_json::object();
+  for (const auto& [name, sec] : solver.presim()) presim[name] = sec;
+  j["presimulation_seconds_per_cycle"] = presim;
+  if (!solver.presim().empty()) j["presimulation_pick"] = m.colouring_name;
+  // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, const std::string& deck_text,

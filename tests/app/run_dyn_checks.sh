@@ -26,7 +26,7 @@ grep -q "^  step 25/600 in progress: t = " beat.log || { cat beat.log; echo "FAI
 
 # 2. restart, bit for bit
 sed "s/^end_time = .*/end_time = $long_end/" "$deck" > long.toml
-"$exe" long.toml -o short -q --restart short/checkpoint.h5
+"$exe" long.toml -o short -q --restart short/checkpoint.h5 --extend
 "$exe" long.toml -o direct -q
 python3 - short/series.csv direct/series.csv <<'PY'
 # every row of the direct run appears, identical but for the wall time, in the restarted series

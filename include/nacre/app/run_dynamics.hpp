@@ -16,8 +16,14 @@ inline constexpr int exit_unstable = 3;
 /// needs the specimen's brick count. dt is the deck's dt (0 when the deck gives dt_fraction).
 [[nodiscard]] dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks);
 
-/// \brief Run a dynamic deck (0 done, 3 unstable); `restart` is a checkpoint.h5 or "".
-int run_dynamics(const deck::Deck& d, bool quiet, bool tty, const std::string& restart);
+struct DynRunOptions {
+  bool quiet = false, tty = false;
+  bool extend = false;   ///< with restart: the deck's end_time may differ from the checkpoint's run
+  std::string restart;   ///< a checkpoint.h5, or ""
+};
+
+/// \brief Run a dynamic deck (0 done, 3 unstable, 130/143 interrupted).
+int run_dynamics(const deck::Deck& d, const DynRunOptions& opt);
 
 /// \brief Print the largest stable step of the deck's method (bisection, dyn::critical_step).
 int print_critical_step(const deck::Deck& d, bool quiet);

@@ -111,6 +111,7 @@ struct Output {
 struct Limits {
   double max_bricks = 5e6;         ///< estimated bricks (wall-grid cells covering the specimen)
   double max_load_steps = 1e6;     ///< final_displacement / smallest increment
+  double max_time_steps = 1e9;     ///< dynamics: end_time / dt
   double max_memory_gib = 0;       ///< estimated memory; 0: 80 % of this machine's physical memory
 };
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <string>
 /// \file
 /// \brief What a deck may ask for: sizes, memory and load steps estimated from the deck alone,
 /// before anything is built, so an absurd deck is refused in milliseconds with
@@ -26,5 +27,10 @@ inline constexpr double bytes_per_brick = 4096;
 /// \brief Throws DeckError ("file:line: key: ...") when a value is outside what doubles can
 /// carry through the model, or an estimate exceeds [limits].
 void check_limits(const Deck& d);
+
+/// \brief Refuses (DeckError at `key`, else dynamics.end_time) a dynamic run of more than
+/// [limits] max_time_steps steps of dt; called for a deck's dt and again for the step a
+/// dt_fraction deck takes from the estimated critical step.
+void check_time_steps(const Deck& d, double dt, const std::string& key);
 
 }  // namespace nacre::deck

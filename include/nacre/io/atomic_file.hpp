@@ -53,4 +53,8 @@ int remove_stale_temporaries(const std::filesystem::path& dir);
 /// disk would (ENOSPC at fsync). Returns the injected errno, or 0.
 [[nodiscard]] int injected_write_failure(const std::filesystem::path& target);
 
+/// \brief Test hook: NACRE_INJECT_KILL_AFTER="NAME:N" kills the process (SIGKILL) right after
+/// the N-th commit of a file NAME, to test what a restart finds after a crash at that point.
+void injected_kill_after_commit(const std::filesystem::path& target);
+
 }  // namespace nacre::io

@@ -1,15 +1,19 @@
 #pragma once
 /// \file
-/// \brief Everything a run writes into its output directory, each file atomically. Solver-neutral:
-/// a solver hands over a Snapshot of named brick / vertex / element / interface fields and CSV
-/// rows it formatted itself; io knows no solver.
-///  steps.csv          one row per load step (rewritten after each step)
-///  mesh.h5            static data: polygon topology, reference geometry, ids (written once)
-///  dump_NNNNN.h5      the snapshot's fields (per dump)
+/// \brief Everything a run of either solver family writes into its output directory, each file
+/// atomically. Solver-neutral: a solver hands over a Snapshot of named brick / vertex / element /
+/// interface fields, CSV rows it formatted itself and an io::Checkpoint; io knows no solver.
+///  steps.csv | series.csv  one row per load step (Monte Carlo) or per csv_interval time steps
+///  mesh.h5            static data: brick polygons, reference geometry, ids; the triangle mesh of
+///                     a run with deformable bricks (written once)
+///  dump_NNNNN.h5      the snapshot's fields (per dump; at least dump_digits digits)
 ///  nacre.xdmf         ParaView index of all dumps (rewritten after each dump)
-///  summary.json       the solver's summary (at the end)
-///  checkpoint.h5      see checkpoint.hpp (written by the caller through write_checkpoint)
+///  summary.json       the solver's summary
+///  checkpoint.h5      see checkpoint.hpp, through checkpoint()
+/// Commit order, which a restart relies on: rows, then the dump and nacre.xdmf, then the
+/// checkpoint; every file a checkpoint refers to is durable before it.
 #include <nacre/geometry/specimen.hpp>
+#include <nacre/io/checkpoint.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -21,14 +25,14 @@
 
 namespace nacre::io {
 
-/// \brief Where a field lives: per brick (polygon cell), per vertex of the brick polygons, per
-/// element (dynamics: triangles), per interface.
+/// \brief Where a field lives: per brick (polygon cell), per vertex (of the brick polygons, or the
+/// nodes of the triangle mesh), per element (triangles), per interface.
 enum class Centre : std::uint8_t { brick, vertex, element, interface };
 
 using FieldData = std::variant<std::vector<double>, std::vector<std::int32_t>, std::vector<std::int8_t>>;
 
-/// \brief A named field. Stored at /bricks/NAME (brick and vertex fields), /elements/NAME or
-/// /interfaces/NAME with shape (size / components, components). Reserved names: vertex field
+/// \brief A named field. Stored at /bricks/NAME (brick fields; vertex fields without a triangle
+/// mesh), /nodes/NAME and /triangles/NAME (vertex and element fields with one) or /interfaces/NAME with shape (size / components, components). Reserved names: vertex field
 /// "points" (2 components) is the displaced brick geometry; interface field "points"
 /// (2 components, two ends per interface) the interface geometry.
 struct Field {
@@ -41,7 +45,7 @@ struct Field {
 /// \brief One dump: its step, its time in the viewer (the MC solver uses the displacement D),
 /// scalar attributes and fields in viewer order.
 struct Snapshot {
-  int step = 0;
+  long step = 0;
   double time = 0;
   std::map<std::string, double> reals;
   std::map<std::string, std::int64_t> integers;
@@ -50,20 +54,33 @@ struct Snapshot {
 
 /// \brief A dump file name "dump_NNNNN.h5" (digits only, at least one) gives its step; any other
 /// name (dump_final.h5, dump_-3.h5, dump_7.h5.bak) gives nothing.
-[[nodiscard]] std::optional<int> dump_step(const std::string& file_name);
+[[nodiscard]] std::optional<long> dump_step(const std::string& file_name);
+
+/// \brief The triangle mesh of deformable bricks: node reference positions (x, y per node),
+/// 3 node indices per triangle, the brick of each triangle.
+struct TriangleMesh {
+  std::vector<double> reference;
+  std::vector<std::int32_t> connectivity;
+  std::vector<std::int32_t> brick;
+  [[nodiscard]] std::size_t nodes() const { return reference.size() / 2; }
+  [[nodiscard]] std::size_t triangles() const { return brick.size(); }
+};
 
 class RunWriter {
 public:
   struct Options {
     std::filesystem::path directory;
     bool hdf5 = true;
-    std::string csv_header;  ///< first line of steps.csv, with its newline
+    std::string csv_header;              ///< first line of the table, with its newline
+    std::string csv_name = "steps.csv";  ///< the table's file name
+    int dump_digits = 5;                 ///< dump_%0*ld.h5: enough digits that names sort by step
+    std::optional<TriangleMesh> elements;  ///< deformable bricks: their triangle mesh
   };
   /// \brief Continue an earlier run after `step` (restart): rows and dumps up to it are kept
   /// when `source_directory` is this directory; another directory is set up as for a new run
   /// (its own mesh.h5), and receives the source's rows up to `step`.
   struct Resume {
-    int step = 0;
+    long step = 0;
     std::filesystem::path source_directory;
   };
 
@@ -73,17 +90,26 @@ public:
   RunWriter(Options o, const geometry::Specimen& s, const geometry::Interfaces& f,
             const std::optional<Resume>& resume = std::nullopt);
 
-  /// \brief Append one row (formatted by the solver, with its newline) for load step `step`.
-  void row(int step, const std::string& csv_line);
-  /// \brief HDF5 dump of a snapshot; nacre.xdmf is rewritten to include it.
+  /// \brief Append one row (formatted by the solver, with its newline) for step `step`; the
+  /// table is rewritten now (`durable`) or at the next flush_rows(), dump or checkpoint.
+  void row(long step, const std::string& csv_line, bool durable = true);
+  /// \brief Rewrite the table with every row so far (when a row is pending).
+  void flush_rows();
+  /// \brief HDF5 dump of a snapshot (rows first); nacre.xdmf is rewritten to include it.
   void dump(const Snapshot& snap);
+  /// \brief checkpoint.h5, after the rows and dumps it refers to are durable.
+  void checkpoint(const Checkpoint& c);
   void summary(const std::string& json);
 
   [[nodiscard]] const std::filesystem::path& directory() const { return o_.directory; }
-  [[nodiscard]] int last_step() const { return last_step_; }
+  [[nodiscard]] std::filesystem::path checkpoint_path() const { return o_.directory / "checkpoint.h5"; }
+  [[nodiscard]] long last_step() const { return last_step_; }
+  [[nodiscard]] long rows() const { return rows_; }
+  [[nodiscard]] long last_dump_step() const { return dumps_.empty() ? -1 : dumps_.back().step; }
   [[nodiscard]] int stale_temporaries_removed() const { return stale_removed_; }
 
 private:
+  void keep_rows(const std::filesystem::path& table, long up_to);
   void write_mesh() const;
   void write_xdmf() const;
 
@@ -92,7 +118,7 @@ private:
   const geometry::Interfaces& f_;
   std::string csv_;
   struct DumpInfo {
-    int step;
+    long step;
     double time;
     std::string file;
   };
@@ -105,7 +131,9 @@ private:
     std::size_t rows;
   };
   std::vector<Layout> layout_;  ///< fields of the latest dump (every dump of a run has the same)
-  int last_step_ = 0;
+  long last_step_ = 0;
+  long rows_ = 0;
+  bool pending_ = false;  ///< rows not yet in the table file
   int stale_removed_ = 0;
 };
 

@@ -42,6 +42,11 @@ void read_dynamics(Section& top, Deck& d) {
   s.string("method", method, {"ue", "be", "bie"},
            "\"ue\" (unbolted explicit, eq. 4.4), \"be\" (bolted explicit, eq. 4.5) or \"bie\" (bolted implicit-explicit, eq. 4.6)");
   D.method = method == "ue" ? Dynamics::Method::ue : (method == "bie" ? Dynamics::Method::bie : Dynamics::Method::be);
+  if (D.method != Dynamics::Method::bie)  // keys of BIE alone would be ignored silently
+    for (const char* k : {"bie_solve", "bie_block", "bie_iterations", "bie_scheme"})
+      if (s.find(k, {}) != nullptr)
+        s.fail(k, "applies to method = \"bie\" only, and this deck's method is \"" + method +
+                      "\"; expected method = \"bie\" or no " + k);
 #if defined(NACRE_HAVE_KOKKOSKERNELS)
   s.string("bie_solve", D.bie_solve, {"row", "reordered", "batched", "shared_gemm"},
            "\"row\", \"reordered\", \"batched\" or \"shared_gemm\" (docs/methods.md)");
@@ -126,17 +131,17 @@ void read_dynamics(Section& top, Deck& d) {
   s.integer("csv_interval", {}, D.csv_interval, 1, 1000000000000L, "a step count >= 1");
   s.integer("dump_interval", {}, D.dump_interval, 0, 1000000000000L, "a step count >= 0 (0: first and last only)");
 
-  if (D.rate == 0 && D.force_top == 0 && D.thermal_strain == 0)
-    s.fail("rate", "no load: rate, force_top and thermal_strain are all zero; expected at least one non-zero");
-  if (D.ramp_time > D.end_time)
-    s.fail("ramp_time", "ramp longer than the run; expected ramp_time <= end_time");
-  if (has_dt && D.end_time / D.dt > 1e12)
-    s.fail("dt", "end_time / dt exceeds 1e12 steps; expected a larger dt or a shorter end_time");
-
+  // unknown keys before the checks that combine keys: a misspelt key is named as such
   s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "bie_scheme", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
                     "csv_interval", "dump_interval", "balance_tolerance", "dt_mode", "sliver_step_ratio"});
+  if (D.rate == 0 && D.force_top == 0 && D.thermal_strain == 0)
+    s.fail("rate", "no load: rate, force_top and thermal_strain are all zero; expected at least one non-zero");
+  if (D.ramp_time > D.end_time)
+    s.fail("ramp_time", "ramp longer than the run; expected ramp_time <= end_time");
+  // (the step count end_time / dt is checked against [limits] max_time_steps by check_limits)
+
 }
 
 }  // namespace nacre::deck::detail

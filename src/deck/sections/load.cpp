@@ -18,15 +18,16 @@ void read_load(Section& top, Deck& d) {
   l.boolean("predictor", L.predictor);
   l.integer("max_ruptures_per_step", {}, L.max_ruptures_per_step, 0, 1000000000,
             "an interface count >= 0 (0: no snap-back control)");
+  // unknown keys first: a misspelt "bendng" is named, not reported as a zero bending
+  l.reject_unknown({"tension", "bending", "final_displacement", "initial_step (InitialLoadStepSize)",
+                    "min_step (MinLoadStepSize)", "max_step (MaxLoadStepSize)", "adaptive", "predictor",
+                    "max_ruptures_per_step"});
   if (L.tension == 0 && L.bending == 0)
     l.fail("tension", "tension and bending are both zero; expected at least one non-zero load component");
   check_bracket(l, "initial_step", L.initial_step, L.min_step, L.max_step, "min_step");
   // (a [dynamics] deck has no load steps; its reader rejects these keys)
   if (!top.table()->contains("dynamics") && L.initial_step > L.final_displacement)
     l.fail("initial_step", "first increment exceeds final_displacement; expected initial_step <= final_displacement");
-  l.reject_unknown({"tension", "bending", "final_displacement", "initial_step (InitialLoadStepSize)",
-                    "min_step (MinLoadStepSize)", "max_step (MaxLoadStepSize)", "adaptive", "predictor",
-                    "max_ruptures_per_step"});
 }
 
 }  // namespace nacre::deck::detail

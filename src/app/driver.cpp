@@ -1,0 +1,105 @@
+// Shared pieces of the run drivers (driver.hpp).
+#include "driver.hpp"
+
+#include <nacre/io/checkpoint.hpp>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <spawn.h>
+#include <sys/wait.h>
+
+extern char** environ;
+
+#ifndef NACRE_PLOT_SCRIPT
+#define NACRE_PLOT_SCRIPT ""
+#endif
+
+namespace nacre::app {
+
+int spawn_and_wait(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+namespace {
+std::string g(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+/// \brief "step 12, D = 0.01 of 0.02" when the checkpoint is of an unfinished run, else "".
+std::string unfinished(const io::Checkpoint& c) {
+  const auto step = c.integers.find("step");
+  const std::string at = "step " + (step == c.integers.end() ? std::string("?") : std::to_string(step->second));
+  const auto kind = c.strings.find("kind");
+  if (kind != c.strings.end() && kind->second == "dynamics") {
+    const auto t = c.reals.find("time"), end = c.reals.find("end_time");
+    if (t == c.reals.end()) return "";
+    if (end == c.reals.end()) return at + ", t = " + g(t->second) + " s";  // an older nacre's: end unknown
+    if (!(t->second < end->second * (1 - 1e-12))) return "";
+    return at + ", t = " + g(t->second) + " s of " + g(end->second) + " s";
+  }
+  const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
+  if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return "";
+  return at + ", D = " + g(D->second) + " of " + g(F->second);
+}
+}  // namespace
+
+void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool overwrite) {
+  if (overwrite) return;
+  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(cpath, ec)) return;
+  if (!restart.empty()) {
+    std::filesystem::path src = std::filesystem::path(restart).parent_path();
+    if (src.empty()) src = ".";
+    if (std::filesystem::equivalent(src, dir, ec) && !ec) return;  // continuing in place
+  }
+  io::Checkpoint c;
+  try {
+    c = io::read_checkpoint(cpath);
+  } catch (const io::CheckpointError&) {
+    return;
+  }
+  const std::string where = unfinished(c);
+  if (where.empty()) return;
+  throw UsageError(cpath.string() + " holds the checkpoint of an unfinished run (" + where +
+                   "), which this run would remove; continue it with --restart " + cpath.string() +
+                   ", write elsewhere with -o, or pass --overwrite to start afresh");
+}
+
+bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log) {
+  const char* env = std::getenv("NACRE_PLOT_SCRIPT");
+  const std::filesystem::path mc_script = env ? env : NACRE_PLOT_SCRIPT;
+  const std::filesystem::path script = mc_script.parent_path() / script_name;
+  std::error_code ec;
+  if (mc_script.empty() || !std::filesystem::exists(script, ec)) {
+    std::cerr << "nacre: warning: plotting script " << script_name << " not found; charts skipped\n";
+    return true;
+  }
+  // an argument vector, no shell: the output path is never interpreted
+  const int rc = spawn_and_wait({"python3", script.string(), dir.string()});
+  if (rc == -1 && !std::filesystem::exists("/usr/bin/python3", ec)) {
+    std::cerr << "nacre: warning: python3 not found; charts skipped\n";
+    return true;
+  }
+  if (rc != 0) {
+    std::cerr << "nacre: error: chart script " << script.string() << " failed (status " << rc
+              << "); the run's results are complete, no chart was left half-written\n";
+    return false;
+  }
+  if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
+  return true;
+}
+
+}  // namespace nacre::app

@@ -1,0 +1,36 @@
+#pragma once
+// What the Monte Carlo and the dynamics drivers share around their run loops: the overwrite
+// guard of an unfinished run, the plotting scripts (spawned, never through a shell), and the
+// messages of a stopped run. One rule in one place, so both families behave alike.
+#include <nacre/deck/deck.hpp>
+
+#include <filesystem>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nacre::app {
+
+/// \brief A bad command line or a refused request before anything ran (exit 2).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted);
+/// returns the exit status, or -1 when it could not be started or was killed.
+int spawn_and_wait(const std::vector<std::string>& argv);
+
+/// \brief A new run (or a restart into another directory) sets up its output directory afresh:
+/// refuse (UsageError) when that would remove the checkpoint of an unfinished run of either
+/// family, unless `overwrite`. A finished run, or a checkpoint that could not be restarted
+/// anyway, is replaced.
+void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool overwrite);
+
+/// \brief Runs the plotting script `script_name` (nacre_plot.py, nacre_dyn_plot.py; beside
+/// NACRE_PLOT_SCRIPT) on `dir`. The scripts write each chart to a temporary and rename it, so a
+/// failure leaves no truncated PNG. Returns false (message printed) when the script failed;
+/// a missing script or python is a warning and returns true.
+bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log);
+
+}  // namespace nacre::app
