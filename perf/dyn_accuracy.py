@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""BIE's accuracy where it matters (issue 21, item 5): the peak reaction, its time and the time
+"""BIE's accuracy where it matters: the peak reaction, its time and the time
 of the first rupture of BE and BIE on the README BIE deck (inputs/dynamic_bie.toml: stiff bricks,
 r = 500, Table 4.2's alpha_d), against a BE reference whose step is halved until the peak moves
 less than 0.1 %. Rows every `sample` seconds of simulated time (not the deck's 4 us grid), so the

@@ -1,4 +1,4 @@
-// Which polish reaches a residual faster (issue 9 §0): from one Monte Carlo state of a deck's
+// Which polish reaches a residual faster: from one Monte Carlo state of a deck's
 // specimen at a load D (same seed, so the same state for every method), FIRE and colour-swept
 // block Newton are run to decreasing tolerances; each row is the cumulative wall time and
 // iterations to reach the tolerance, and the energy there. Writes CSV to stdout.

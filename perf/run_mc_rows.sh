@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Throughput of several nacre_perf_mc builds (one per change), interleaved in one sitting
 # (b1, b2, ..., b1, b2, ...) so that every build sees the same machine load; each row's ratio to
-# the first build is taken per repetition (issue 9 §1: "a row per change, ratios in one run").
+# the first build is taken per repetition ("a row per change, ratios in one run").
 # Usage (inside the dev root, from the repository root):
 #   devenv/nacre-env run env NACRE_MC_SIZES=10000,300000 perf/run_mc_rows.sh OUTDIR NAME=BIN [NAME=BIN ...]
 # Writes OUTDIR/<NAME>.csv (nacre_perf_mc's columns) and OUTDIR/summary.md: per size, schedule

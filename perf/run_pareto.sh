@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed against accuracy at scale (issue 9 §2): one notched specimen of ~20k bricks (the default
+# Speed against accuracy at scale: one notched specimen of ~20k bricks (the default
 # deck's geometry scaled up, same law, same load path shape), a converged reference, and a sweep
 # of solver settings, each run to the same final displacement. Every run is timed in process CPU
 # seconds (summary.json's cpu_seconds; one thread per run, so a shared machine does not distort

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Polish methods against each other (issue 9 §0): from one Monte Carlo state of the default deck's
+# Polish methods against each other: from one Monte Carlo state of the default deck's
 # specimen (same seed, same state for each method), FIRE, colour-swept block Newton and annealing
 # (Monte Carlo cooled to T = 0) run to 1e-3 ... 1e-8; cumulative time and iterations to each
 # tolerance. Two states: elastic (D = 0.03,

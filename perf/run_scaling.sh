@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scaling of the rigid-brick solver (issue 9 §2; the dissertation: ~N^1.5): total time to the
+# Scaling of the rigid-brick solver (the dissertation: ~N^1.5): total time to the
 # same final displacement against the number of bricks, with the default deck's (adaptive)
 # settings, on the default deck's specimen scaled up (perf/scaled_deck.sh). Each run on one
 # thread, timed in CPU seconds (robust on a shared machine); initialisation (specimen,

@@ -112,7 +112,7 @@ dump_interval = 0
 
 TEST_CASE("bad [dynamics] values are errors with file, line and key", "[deck][dyn]") {
   CHECK_THAT(error_of(base + "method = \"biec\"\n"), StartsWith("dyn.toml:18: dynamics.method: unknown value \"biec\""));
-  CHECK(error_of(base + "method = \"bie\"\n").empty());  // issue 8
+  CHECK(error_of(base + "method = \"bie\"\n").empty());
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_solve = \"lu\"\n"), StartsWith("dyn.toml:19: dynamics.bie_solve: unknown value \"lu\""));
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_block = 3\n"), StartsWith("dyn.toml:19: dynamics.bie_block:"));
   CHECK_THAT(error_of(base + "method = \"bie\"\nbie_iterations = 0\n"), StartsWith("dyn.toml:19: dynamics.bie_iterations:"));

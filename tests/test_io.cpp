@@ -1,4 +1,4 @@
-// Outputs and checkpoints (issue 6): atomic commits that keep the previous file on a failed write,
+// Outputs and checkpoints: atomic commits that keep the previous file on a failed write,
 // checkpoints whose checksum catches any change, MC checkpoint range checks (with valid
 // checksums, so only the range check can refuse them), restart fingerprints that name the
 // differing key, strict dump names, stale temporaries, and the colouring rule.

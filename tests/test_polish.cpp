@@ -1,4 +1,4 @@
-// Converged means converged (issue 9 §0): the exact gradient against finite differences of the
+// Converged means converged: the exact gradient against finite differences of the
 // energy, the polish (FIRE, block Newton) reaching the residual without raising the energy, the
 // reaction column against a finite difference of the energy column of a converged run (after
 // the peak too), and a run that cannot converge reported as such.
@@ -198,7 +198,7 @@ TEST_CASE("FIRE and Newton polish reach the same minimum from the same thermal s
 
 TEST_CASE("annealing T to 0 reaches the residual and FIRE's minimum, the same bits every time",
           "[mc][polish][anneal]") {
-  // The third way to a minimum (issue 9 §0): Monte Carlo cooled to T = 0. Slower than FIRE
+  // The third way to a minimum: Monte Carlo cooled to T = 0. Slower than FIRE
   // (docs/convergence.md measures it), but it must get there: the same energy as FIRE's polish
   // from the same thermal state, below the tolerance, the run's step sizes restored, deterministic.
   auto d = notched_deck();
@@ -287,7 +287,7 @@ TEST_CASE("converged run: the reaction column is dE/dD of the energy column, aft
   // Trapezoid rule on each increment with the same rupture count at both ends (the energy is
   // smooth along a branch): E_{i+1} - E_i = (R_i + R_{i+1}) / 2 dD + O(dD^3). Stated tolerance:
   // every increment within 3 % of the peak force, the median after the peak within 1.5 %
-  // (measured: worst 2.6 %, median after the peak 1.0 %; the window-test runs of issue 9 showed
+  // (measured: worst 2.6 %, median after the peak 1.0 %; the window-test runs showed
   // a 12-17 % median after the peak).
   int checked = 0;
   double worst = 0;
@@ -405,7 +405,7 @@ TEST_CASE("relaxation = gradient: FIRE alone, same load stepping, the same minim
 
 TEST_CASE("Monte Carlo escapes a ruptured plateau where the gradient vanishes and FIRE stays",
           "[mc][polish][metastable]") {
-  // Issue 9: keep Monte Carlo where it escapes the metastable states of rupture; show it. The
+  // keep Monte Carlo where it escapes the metastable states of rupture; show it. The
   // notched specimen loaded in one jump to D = 0.012 (no load stepping): FIRE from the unloaded
   // poses pulls the whole loaded row off and stops with all 24 ligament joints beyond x1 + x2.
   // There every ruptured joint's energy is flat (k x1 x2), so the gradient is exactly zero and

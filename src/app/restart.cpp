@@ -1,4 +1,4 @@
-// Checkpoint fingerprints and their comparison with the deck (issue 6 point 2).
+// Checkpoint fingerprints and their comparison with the deck.
 #include <nacre/app/restart.hpp>
 
 #include <Kokkos_Core.hpp>

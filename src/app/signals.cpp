@@ -1,4 +1,4 @@
-// SIGINT/SIGTERM handling (issue 6 point 5): async-signal-safe handler that only stores the
+// SIGINT/SIGTERM handling: async-signal-safe handler that only stores the
 // signal number; everything else happens in the run loop.
 #include <nacre/app/signals.hpp>
 

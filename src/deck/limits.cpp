@@ -1,4 +1,4 @@
-// Limits and estimates of a deck (issue 6 point 3): an absurd deck (1e6 x 1e6 bricks, sizes of
+// Limits and estimates of a deck: an absurd deck (1e6 x 1e6 bricks, sizes of
 // 1e300 or 1e-300, an increment that never reaches the final displacement) is refused from the
 // deck alone, in milliseconds, with "file:line: key: ..." and how to raise the limit. Also the
 // canonical physics text of a deck (checkpoint fingerprints) and the line of every key.

@@ -1,5 +1,5 @@
 // Atomic file commits: temporary + close + fsync + rename + directory fsync, each step checked;
-// a failure removes the temporary and names the file and errno text (issue 6, point 1).
+// a failure removes the temporary and names the file and errno text.
 #include <nacre/io/atomic_file.hpp>
 
 #include <cerrno>

@@ -1,6 +1,5 @@
 // Checkpoint of named arrays: write (atomic, checked close), read back with format and checksum
-// verified. Solver-neutral: the solvers translate their state into names (issue 6 point 2,
-// issue 7 §1).
+// verified. Solver-neutral: the solvers translate their state into names.
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/hdf5_writer.hpp>

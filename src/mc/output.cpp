@@ -1,5 +1,5 @@
-// The MC solver's outputs in io's solver-neutral terms (issue 7 §1): CSV rows, dump snapshot,
-// summary, and the checkpoint as named arrays, range-checked on the way back (issue 6 point 2).
+// The MC solver's outputs in io's solver-neutral terms: CSV rows, dump snapshot,
+// summary, and the checkpoint as named arrays, range-checked on the way back.
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
 

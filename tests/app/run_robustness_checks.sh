@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hostile-user checks of the nacre executable (issue 6): every case states what must hold.
+# Hostile-user checks of the nacre executable: every case states what must hold.
 #   run_robustness_checks.sh NACRE_EXE SOURCE_DIR WORK_DIR
 # Cases: command line (shell injection, --kokkos-* values, a directory as deck), absurd decks
 # (refused in < 1 s, nothing created), restart refusals (other deck, corrupt checkpoint; nothing

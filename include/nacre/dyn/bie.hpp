@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// \brief The bolted implicit-explicit method (BIE, eq. 4.6/4.7, issue 8): implicit midpoint for
+/// \brief The bolted implicit-explicit method (BIE, eq. 4.6/4.7): implicit midpoint for
 /// the element terms (K, C), explicit Verlet for the interface forces, Newton iterations with the
 /// constant Jacobian J of eq. 4.7 whose interface term is neglected, so every brick is solved on
 /// its own with J^-1 of its element type (computed once at start-up, Eigen, condition checked).

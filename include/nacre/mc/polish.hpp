@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// \brief Deterministic polish of a load step with the exact gradient (issue 9 §0): after the
+/// \brief Deterministic polish of a load step with the exact gradient: after the
 /// Monte Carlo relaxation, drive the residual (gradient.hpp) below the deck's tolerance.
 ///
 /// Why here and not Monte Carlo alone: a Metropolis chain at temperature T samples a state whose

@@ -92,7 +92,7 @@ public:
   /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
   /// `tolerance` when > 0); see polish.hpp. "anneal" is Monte Carlo cooled to T = 0 (anneal()).
   PolishResult polish(const std::string& method = "", double tolerance = 0);
-  /// \brief Simulated annealing to a residual (issue 9 §0, the alternative to a gradient polish):
+  /// \brief Simulated annealing to a residual (the alternative to a gradient polish):
   /// Monte Carlo cycles at a temperature halved every `AdaptInter` cycles from the deck's TEMP
   /// (and 0 once it is below 1e-12 of it), with per-brick step sizes (whatever the run's
   /// step_mode) adapted by eq. 2.7's rule about an acceptance of 0.2 instead of 0.5, their floors
