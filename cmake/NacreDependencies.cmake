@@ -1,3 +1,13 @@
+# A header-only library without its CMake package: an imported target over the directory that
+# holds HEADER (toml++, CLI11, nlohmann-json).
+function(nacre_header_only target var header)
+  if(NOT TARGET ${target})
+    find_path(${var} ${header} REQUIRED)
+    add_library(${target} INTERFACE IMPORTED GLOBAL)
+    target_include_directories(${target} INTERFACE ${${var}})
+  endif()
+endfunction()
+
 # Third-party libraries. Each one is a Debian package in the dev root; on other machines
 # (Spack, modules) the usual CMake config/find modules locate them.
 if(NACRE_BENCHMARKS_ONLY)
@@ -23,18 +33,10 @@ find_package(HDF5 REQUIRED COMPONENTS C)
 
 # toml++ and CLI11 are header-only; prefer their CMake packages, fall back to the headers.
 find_package(tomlplusplus 3 QUIET CONFIG)
-if(NOT TARGET tomlplusplus::tomlplusplus)
-  find_path(NACRE_TOMLPP_INCLUDE toml++/toml.hpp REQUIRED)
-  add_library(tomlplusplus::tomlplusplus INTERFACE IMPORTED)
-  target_include_directories(tomlplusplus::tomlplusplus INTERFACE ${NACRE_TOMLPP_INCLUDE})
-endif()
+nacre_header_only(tomlplusplus::tomlplusplus NACRE_TOMLPP_INCLUDE toml++/toml.hpp)
 endif()
 find_package(CLI11 2 QUIET CONFIG)
-if(NOT TARGET CLI11::CLI11)
-  find_path(NACRE_CLI11_INCLUDE CLI/CLI.hpp REQUIRED)
-  add_library(CLI11::CLI11 INTERFACE IMPORTED)
-  target_include_directories(CLI11::CLI11 INTERFACE ${NACRE_CLI11_INCLUDE})
-endif()
+nacre_header_only(CLI11::CLI11 NACRE_CLI11_INCLUDE CLI/CLI.hpp)
 
 # Optional: Kokkos Kernels, header-only use (the dev root builds it: devenv/nacre-env; elsewhere
 # a Spack or hand install is found through KokkosKernels_ROOT / CMAKE_PREFIX_PATH). Without it
@@ -55,9 +57,5 @@ endif()
 # benchmarks-only build leaves the outputs out: src/CMakeLists.txt).
 if(NOT NACRE_BENCHMARKS_ONLY)
   find_package(nlohmann_json 3 QUIET CONFIG)
-  if(NOT TARGET nlohmann_json::nlohmann_json)
-    find_path(NACRE_NLOHMANN_INCLUDE nlohmann/json.hpp REQUIRED)
-    add_library(nlohmann_json::nlohmann_json INTERFACE IMPORTED)
-    target_include_directories(nlohmann_json::nlohmann_json INTERFACE ${NACRE_NLOHMANN_INCLUDE})
-  endif()
+  nacre_header_only(nlohmann_json::nlohmann_json NACRE_NLOHMANN_INCLUDE nlohmann/json.hpp)
 endif()

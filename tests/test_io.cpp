@@ -178,8 +178,10 @@ TEST_CASE("stale temporaries of dead processes are removed, live ones and other 
 TEST_CASE("dump names are parsed strictly", "[io]") {
   CHECK(io::dump_step("dump_00012.h5") == 12);
   CHECK(io::dump_step("dump_0.h5") == 0);
+  CHECK(io::dump_step("dump_000000012.h5") == 12);      // a dynamic run's 9 digits
+  CHECK(io::dump_step("dump_99999999999.h5") == 99999999999L);  // time steps beyond int
   for (const char* n : {"dump_final.h5", "dump_-3.h5", "dump_.h5", "dump_1.h5.bak", "dump_+1.h5", "dump_1a.h5",
-                        "dump_99999999999.h5", "xdump_1.h5", "dump_1.H5"})
+                        "dump_99999999999999999999.h5", "xdump_1.h5", "dump_1.H5"})
     CHECK_FALSE(io::dump_step(n).has_value());
 }
 

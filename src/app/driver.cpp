@@ -1,6 +1,7 @@
 // Shared pieces of the run drivers (driver.hpp).
 #include "driver.hpp"
 
+#include <nacre/core/format.hpp>
 #include <nacre/io/checkpoint.hpp>
 
 #include <cerrno>
@@ -31,11 +32,7 @@ int spawn_and_wait(const std::vector<std::string>& argv) {
 }
 
 namespace {
-std::string g(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
+std::string g(double v) { return format_real(v, 6); }
 
 /// \brief "step 12, D = 0.01 of 0.02" when the checkpoint is of an unfinished run, else "".
 std::string unfinished(const io::Checkpoint& c) {

@@ -3,6 +3,7 @@
 #include "dyn_fields.hpp"
 
 #include <nacre/app/restart.hpp>
+#include <nacre/core/format.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,11 +15,7 @@ namespace nacre::app {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
+std::string num(double v) { return format_real(v, 17); }
 
 }  // namespace
 

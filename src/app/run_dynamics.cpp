@@ -8,6 +8,7 @@
 #include "progress.hpp"
 
 #include <nacre/app/signals.hpp>
+#include <nacre/core/format.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/bie.hpp>
 #include <nacre/io/results.hpp>
@@ -43,11 +44,7 @@ constexpr int kGrowthChecks = 6;
 
 const char* method_name(dyn::Method m) { return m == dyn::Method::ue ? "ue" : (m == dyn::Method::bie ? "bie" : "be"); }
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return format_real(v, 10); }
 
 struct Setup {
   geometry::Specimen specimen;

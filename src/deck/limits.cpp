@@ -3,6 +3,7 @@
 // deck alone, in milliseconds, with "file:line: key: ..." and how to raise the limit. Also the
 // canonical physics text of a deck (checkpoint fingerprints) and the line of every key.
 #include <nacre/deck/limits.hpp>
+#include <nacre/core/format.hpp>
 
 #include "toml_text.hpp"
 
@@ -18,11 +19,7 @@
 namespace nacre::deck {
 
 namespace {
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
+std::string fmt(double v) { return format_real(v, 3); }
 
 void walk(const toml::table& t, const std::string& prefix, std::map<std::string, int>& out) {
   for (auto&& [k, v] : t) {

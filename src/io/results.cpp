@@ -3,6 +3,7 @@
 // restart relies on. Knows geometry, not solvers; restarts keep or set up the directory only
 // after the caller validated the checkpoint.
 #include <nacre/io/atomic_file.hpp>
+#include <nacre/core/format.hpp>
 #include <nacre/io/hdf5_writer.hpp>
 #include <nacre/io/results.hpp>
 
@@ -15,11 +16,7 @@
 namespace nacre::io {
 
 namespace {
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return format_real(v, 10); }
 
 /// \brief Files a run owns in its directory (a new run removes them; others are left alone).
 bool ours(const std::string& n) {

@@ -2,6 +2,7 @@
 // summary, and the checkpoint as named arrays, range-checked on the way back.
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
+#include <nacre/core/format.hpp>
 
 #include <Kokkos_Core.hpp>
 #include <nlohmann/json.hpp>
@@ -14,11 +15,7 @@
 namespace nacre::mc {
 
 namespace {
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return format_real(v, 10); }
 }  // namespace
 
 std::string csv_header() {

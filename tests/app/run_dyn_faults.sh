@@ -16,17 +16,7 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"; cd "$work"
-fails=0
-ok() { echo "ok: $*"; }
-bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
-expect() {  # expect RC PATTERN CMD...
-  local rc="$1" pat="$2"; shift 2
-  "$@" > out.txt 2> err.txt; local got=$?
-  if [ "$got" -ne "$rc" ]; then bad "$* -> exit $got, expected $rc: $(tr '\n' ' ' < err.txt | head -c 400)"; return 1; fi
-  if [ -n "$pat" ] && ! grep -Eq -- "$pat" err.txt; then bad "$* -> message lacks /$pat/: $(tr '\n' ' ' < err.txt | head -c 400)"; return 1; fi
-  ok "$* -> $rc${pat:+: $(grep -E -- "$pat" err.txt | head -1 | head -c 200)}"
-}
-state() { (cd "$1" && find . -type f | sort | xargs md5sum); }
+source "$src/tests/app/checks_lib.sh"  # ok, bad, expect, state
 same_rows() {  # same_rows A B: every column but the wall time equal, same steps
   python3 - "$1" "$2" <<'PY'
 import csv, sys

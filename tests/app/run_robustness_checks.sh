@@ -8,19 +8,7 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"; cd "$work"
-fails=0
-ok() { echo "ok: $*"; }
-bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
-# expect RC PATTERN CMD...: exit code and a stderr line matching PATTERN
-expect() {
-  local rc="$1" pat="$2"; shift 2
-  "$@" > out.txt 2> err.txt; local got=$?
-  if [ "$got" -ne "$rc" ]; then bad "$* -> exit $got, expected $rc: $(tr '\n' ' ' < err.txt)"; return 1; fi
-  if [ -n "$pat" ] && ! grep -Eq -- "$pat" err.txt; then bad "$* -> message lacks /$pat/: $(tr '\n' ' ' < err.txt)"; return 1; fi
-  ok "$* -> $rc${pat:+: $(grep -E -- "$pat" err.txt | head -1)}"
-}
-# a directory's state: names and checksums (to show nothing was deleted or changed)
-state() { (cd "$1" && find . -type f | sort | xargs md5sum); }
+source "$src/tests/app/checks_lib.sh"  # ok, bad, expect, state
 tiny="$src/tests/app/tiny.toml"
 cp "$tiny" tiny.toml
 sed 's/^final_displacement = .*/final_displacement = 0.024/' tiny.toml > long.toml
