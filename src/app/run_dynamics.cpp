@@ -94,8 +94,7 @@ const char* scheme_label(const dyn::Params& p) {
 dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   const auto& D = d.dynamics;
   dyn::Params p;
-  p.method = D.method == deck::Dynamics::Method::ue ? dyn::Method::ue
-             : (D.method == deck::Dynamics::Method::bie ? dyn::Method::bie : dyn::Method::be);
+  p.method = D.method;  // one enum (dyn/params.hpp)
   dyn::parse_bie_solve(D.bie_solve, p.bie_solve);  // validated by the deck reader
   p.bie_block = D.bie_block;
   p.bie_iterations = D.bie_iterations;
@@ -118,7 +117,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   p.dt = D.dt;
   p.rate = D.rate;
   p.ramp_time = D.ramp_time;
-  p.ramp = D.ramp == deck::Dynamics::Ramp::smooth ? dyn::Ramp::smooth : dyn::Ramp::linear;
+  p.ramp = D.ramp;
   p.final_displacement = d.load.final_displacement;
   p.tension = d.load.tension;
   p.bending = d.load.bending;

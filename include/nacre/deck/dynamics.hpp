@@ -5,7 +5,10 @@
 /// (tonne), s; the deck's lengths are then mm and the mortar's k is N/mm^3. docs/decks.md lists
 /// every key with unit and default; docs/dynamics.md explains methods and outputs.
 ///
-/// The deck knows nothing of the solver: src/app maps this struct onto dyn::Params.
+/// The deck knows nothing of the solver but the choices it offers (dyn/params.hpp, enums defined
+/// once); src/app maps this struct onto dyn::Params.
+#include <nacre/dyn/params.hpp>
+
 #include <cstdint>
 #include <string>
 
@@ -14,11 +17,11 @@ namespace nacre::deck {
 struct Dynamics {
   /// \brief Integrator: UE unbolted explicit (eq. 4.4), BE bolted explicit (eq. 4.5), BIE bolted
   /// implicit-explicit (eq. 4.6/4.7, docs/methods.md).
-  enum class Method : std::uint8_t { ue, be, bie };
+  using Method = dyn::Method;
   /// \brief Rayleigh damping source: Table 4.2 preset, none, or alpha_d/beta_d as given.
   enum class Damping : std::uint8_t { table, none, explicit_values };
   /// \brief Time profile of the opening rate over ramp_time.
-  enum class Ramp : std::uint8_t { linear, smooth };
+  using Ramp = dyn::Ramp;
 
   bool enabled = false;            ///< the deck has a [dynamics] section
   Method method = Method::be;
