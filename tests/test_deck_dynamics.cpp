@@ -188,3 +188,21 @@ TEST_CASE("deck dynamics: bie_scheme = \"auto\" takes the split step where C != 
   CHECK(scheme("damping = \"table\"\nbie_scheme = \"iterate\"\n") == BieScheme::iterate);
   CHECK(scheme("damping = \"none\"\nbie_scheme = \"split\"\n") == BieScheme::split);
 }
+
+TEST_CASE("deck dynamics: quadrature_points reaches the solver; BIE keys with another method and misspelt keys are named",
+          "[deck][dyn]") {
+  const Deck d = parse_deck_string(base + "quadrature_points = 2\n", "dyn.toml");
+  CHECK(d.dynamics.quadrature_points == 2);
+  CHECK(nacre::app::dynamics_params(d, 65).quadrature_points == 2);
+  CHECK(nacre::app::dynamics_params(parse_deck_string(base, "dyn.toml"), 65).quadrature_points == 4);
+  CHECK_THAT(error_of(base + "quadrature_points = 9\n"), StartsWith("dyn.toml:18: dynamics.quadrature_points"));
+  // the Monte Carlo solver integrates exactly: [solver] has no such key
+  std::string mc = base.substr(0, base.find("[dynamics]")) + "initial_step = 0.0001\n[solver]\nquadrature_points = 4\n";
+  CHECK_THAT(error_of(mc), ContainsSubstring("solver.quadrature_points: unknown key"));
+  CHECK_THAT(error_of(base + "bie_iterations = 2\n"),
+             StartsWith("dyn.toml:18: dynamics.bie_iterations: applies to method = \"bie\" only"));
+  CHECK(error_of(base + "method = \"bie\"\nbie_iterations = 2\n").empty());
+  std::string typo = base;
+  typo.replace(typo.find("final_displacement = 0.001"), 26, "final_displacement = 0.001\nbendng = 1.0");
+  CHECK_THAT(error_of(typo), StartsWith("dyn.toml:15: load.bendng: unknown key"));
+}

@@ -130,6 +130,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   p.step_check = true;
   p.dt_mode = D.dt_mode == "adaptive" ? dyn::DtMode::adaptive : dyn::DtMode::fixed;
   p.sliver_step_ratio = D.sliver_step_ratio;
+  p.quadrature_points = D.quadrature_points;
   return p;
 }
 

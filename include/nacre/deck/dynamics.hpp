@@ -58,6 +58,7 @@ struct Dynamics {
   /// elements whose step bound is below this fraction of the median element's get a selective
   /// mass scaling up to it (0: none; docs/dynamics.md "Slivers")
   double sliver_step_ratio = 0.5;
+  int quadrature_points = 4;       ///< Gauss-Legendre points along each interface segment (1..8)
   long csv_interval = 100;         ///< time-series row every this many steps
   long dump_interval = 10000;      ///< HDF5 dump + checkpoint every this many steps (0: first and last only)
 

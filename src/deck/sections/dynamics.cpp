@@ -128,6 +128,11 @@ void read_dynamics(Section& top, Deck& d) {
            "\"fixed\" (stop when the estimated critical step falls below dt) or \"adaptive\" (dt follows it)");
   s.number("sliver_step_ratio", {}, D.sliver_step_ratio, [](double v) { return v >= 0 && v <= 1; },
            "a fraction of the median element's step bound in [0, 1] (0: no mass scaling of slivers)");
+  {
+    long nq = D.quadrature_points;
+    s.integer("quadrature_points", {}, nq, 1, 8, "an integer in [1, 8] (Gauss-Legendre points per interface)");
+    D.quadrature_points = static_cast<int>(nq);
+  }
   s.integer("csv_interval", {}, D.csv_interval, 1, 1000000000000L, "a step count >= 1");
   s.integer("dump_interval", {}, D.dump_interval, 0, 1000000000000L, "a step count >= 0 (0: first and last only)");
 
@@ -135,7 +140,7 @@ void read_dynamics(Section& top, Deck& d) {
   s.reject_unknown({"method", "bie_solve", "bie_block", "bie_iterations", "bie_scheme", "stiffness_ratio", "youngs_modulus", "poisson", "density", "thickness",
                     "internal_stiffness_factor", "damping", "alpha_d", "beta_d", "dt", "dt_fraction", "end_time",
                     "rate", "ramp", "ramp_time", "thermal_strain", "force_top", "share_element_matrices",
-                    "csv_interval", "dump_interval", "balance_tolerance", "dt_mode", "sliver_step_ratio"});
+                    "csv_interval", "dump_interval", "balance_tolerance", "dt_mode", "sliver_step_ratio", "quadrature_points"});
   if (D.rate == 0 && D.force_top == 0 && D.thermal_strain == 0)
     s.fail("rate", "no load: rate, force_top and thermal_strain are all zero; expected at least one non-zero");
   if (D.ramp_time > D.end_time)

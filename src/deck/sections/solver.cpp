@@ -29,7 +29,6 @@ void read_solver(Section& top, Deck& d) {
   s.number("window_mul", {"WindowMul"}, S.window_mul, positive, "a positive factor");
   s.number("window_upper_mul", {"WindowUpperMul"}, S.window_upper_mul, positive, "a positive factor");
   s.integer("max_cycles", {}, S.max_cycles, 1, 1000000000000L, "a cycle count >= 1");
-  s.integer("quadrature_points", {}, S.quadrature_points, 1, 8, "an integer in [1, 8]");
 #ifdef NACRE_HAVE_KOKKOSKERNELS
   s.string("colouring", S.colouring,
            {"auto", "fastest", "natural", "largest-first", "random", "balanced", "tiles", "kokkos-d1"},
@@ -66,7 +65,7 @@ void read_solver(Section& top, Deck& d) {
                     "max_rot_step (MaxRotSize)", "adapt_interval (AdaptInter)", "step_mode", "stol (STOL)", "rtol (RTOL)",
                     "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
                     "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
-                    "quadrature_points", "colouring", "presim_cycles", "convergence", "residual_tolerance",
+                    "colouring", "presim_cycles", "convergence", "residual_tolerance",
                     "polish", "polish_iterations", "relaxation", "AmpFactor", "StructSteps"});
 }
 
