@@ -24,11 +24,12 @@ int spawn_and_wait(const std::vector<std::string>& argv) {
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   pid_t pid = 0;
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return kNotStarted;
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (errno != EINTR) return kNotStarted;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
 }
 
 namespace {
@@ -86,7 +87,7 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
   }
   // an argument vector, no shell: the output path is never interpreted
   const int rc = spawn_and_wait({"python3", script.string(), dir.string()});
-  if (rc == -1 && !std::filesystem::exists("/usr/bin/python3", ec)) {
+  if (rc == kNotStarted) {
     std::cerr << "nacre: warning: python3 not found; charts skipped\n";
     return true;
   }

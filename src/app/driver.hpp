@@ -17,8 +17,11 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// \brief spawn_and_wait's result when argv[0] could not be started (not found on PATH).
+inline constexpr int kNotStarted = -1;
+
 /// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted);
-/// returns the exit status, or -1 when it could not be started or was killed.
+/// returns the exit status, 128 + signal when it was killed, or kNotStarted.
 int spawn_and_wait(const std::vector<std::string>& argv);
 
 /// \brief A new run (or a restart into another directory) sets up its output directory afresh:

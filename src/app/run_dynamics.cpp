@@ -199,7 +199,7 @@ int print_critical_step(const deck::Deck& d, bool quiet) {
 
 DynCheckpoint validated_dyn_checkpoint(const deck::Deck& d, const std::string& restart, bool extend) {
   DynCheckpoint cp = read_dyn_checkpoint(restart, d);
-  const char* method = method_name(dynamics_params(d, 0).method);
+  const char* method = method_name(d.dynamics.method);
   if (cp.method != method)
     throw io::CheckpointError(restart + ": checkpoint of method " + cp.method + ", the deck says " + method + " (" +
                               d.where("dynamics.method") + ")");

@@ -259,59 +259,59 @@ void RunWriter::write_xdmf() const {
       x << "   </Attribute>\n";
     }
   };
-  if (tri) {  // deformable bricks: the triangle mesh, its node and element fields
+  // One temporal collection per mesh: its topology, geometry (the dump's "points", else the
+  // reference points), the dump's fields of the given centres and one static cell attribute.
+  struct Attribute {
+    Centre centre;
+    const char* centre_name;
+  };
+  struct Grid {
+    const char* name;
+    std::string topology;  ///< the Topology element's attributes
+    std::string connectivity_dims;
+    const char* connectivity;
+    const Layout* points;
+    std::string reference_dims;
+    const char* reference;
+    std::vector<Attribute> fields;
+    const char* static_name;
+    const char* static_type;
+    int static_prec;
+    const char* static_path;
+    std::size_t cells;
+  };
+  auto grid = [&](const Grid& g) {
+    x << "<Grid Name=\"" << g.name << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& d : dumps_) {
+      x << "  <Grid Name=\"" << g.name << "_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\""
+        << num(d.time) << "\"/>\n   <Topology " << g.topology << " NumberOfElements=\"" << g.cells << "\">\n";
+      item(g.connectivity_dims, "Int", 4, g.connectivity);
+      x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
+      if (g.points) field_item(*g.points, d.file);
+      else item(g.reference_dims, "Float", 8, g.reference);
+      x << "   </Geometry>\n";
+      for (const auto& a : g.fields) attributes(a.centre, a.centre_name, d.file);
+      x << "   <Attribute Name=\"" << g.static_name << "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+      item(std::to_string(g.cells), g.static_type, g.static_prec, g.static_path);
+      x << "   </Attribute>\n  </Grid>\n";
+    }
+    x << "</Grid>\n";
+  };
+  const Layout* points = find(Centre::vertex, "points");
+  if (tri) {  // deformable bricks are drawn by their triangles: node and element fields
     const std::size_t nn = o_.elements->nodes(), nt = o_.elements->triangles();
-    x << "<Grid Name=\"triangles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& d : dumps_) {
-      x << "  <Grid Name=\"triangles_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
-        << "\"/>\n   <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << nt << "\">\n";
-      item(std::to_string(nt) + " 3", "Int", 4, "mesh.h5:/triangles/connectivity");
-      x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
-      if (const Layout* p = find(Centre::vertex, "points")) field_item(*p, d.file);
-      else item(std::to_string(nn) + " 2", "Float", 8, "mesh.h5:/nodes/reference");
-      x << "   </Geometry>\n";
-      attributes(Centre::vertex, "Node", d.file);
-      attributes(Centre::element, "Cell", d.file);
-      x << "   <Attribute Name=\"brick\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-      item(std::to_string(nt), "Int", 4, "mesh.h5:/triangles/brick");
-      x << "   </Attribute>\n  </Grid>\n";
-    }
-    x << "</Grid>\n";
+    grid({"triangles", "TopologyType=\"Triangle\"", std::to_string(nt) + " 3", "mesh.h5:/triangles/connectivity",
+          points, std::to_string(nn) + " 2", "mesh.h5:/nodes/reference",
+          {{Centre::vertex, "Node"}, {Centre::element, "Cell"}}, "brick", "Int", 4, "mesh.h5:/triangles/brick", nt});
+  } else {  // rigid bricks: one polygon each (XDMF "Mixed")
+    grid({"bricks", "TopologyType=\"Mixed\"", std::to_string(topo_len), "mesh.h5:/bricks/topology", points,
+          std::to_string(s_.vx.size()) + " 2", "mesh.h5:/bricks/reference_points",
+          {{Centre::brick, "Cell"}, {Centre::vertex, "Node"}}, "drive", "Char", 1, "mesh.h5:/bricks/drive", n});
   }
-  if (!tri) x << "<Grid Name=\"bricks\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (const auto& d : dumps_) {
-    if (tri) break;  // the bricks are drawn by their triangles
-    x << "  <Grid Name=\"bricks_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
-      << "\"/>\n   <Topology TopologyType=\"Mixed\" NumberOfElements=\"" << n << "\">\n";
-    item(std::to_string(topo_len), "Int", 4, "mesh.h5:/bricks/topology");
-    x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
-    if (const Layout* p = find(Centre::vertex, "points")) field_item(*p, d.file);
-    else item(std::to_string(s_.vx.size()) + " 2", "Float", 8, "mesh.h5:/bricks/reference_points");
-    x << "   </Geometry>\n";
-    attributes(Centre::brick, "Cell", d.file);
-    attributes(Centre::vertex, "Node", d.file);
-    x << "   <Attribute Name=\"drive\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-    item(std::to_string(n), "Char", 1, "mesh.h5:/bricks/drive");
-    x << "   </Attribute>\n  </Grid>\n";
-  }
-  if (!tri) x << "</Grid>\n";
-  if (const Layout* ip = find(Centre::interface, "points")) {
-    x << "<Grid Name=\"interfaces\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& d : dumps_) {
-      x << "  <Grid Name=\"interfaces_" << d.step << "\" GridType=\"Uniform\">\n   <Time Value=\"" << num(d.time)
-        << "\"/>\n   <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" << ni
-        << "\">\n";
-      item(std::to_string(ni) + " 2", "Int", 4, "mesh.h5:/interfaces/connectivity");
-      x << "   </Topology>\n   <Geometry GeometryType=\"XY\">\n";
-      field_item(*ip, d.file);
-      x << "   </Geometry>\n";
-      attributes(Centre::interface, "Cell", d.file);
-      x << "   <Attribute Name=\"kind\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-      item(std::to_string(ni), "Char", 1, "mesh.h5:/interfaces/kind");
-      x << "   </Attribute>\n  </Grid>\n";
-    }
-    x << "</Grid>\n";
-  }
+  if (const Layout* ip = find(Centre::interface, "points"))
+    grid({"interfaces", "TopologyType=\"Polyline\" NodesPerElement=\"2\"", std::to_string(ni) + " 2",
+          "mesh.h5:/interfaces/connectivity", ip, "", "", {{Centre::interface, "Cell"}}, "kind", "Char", 1,
+          "mesh.h5:/interfaces/kind", ni});
   x << "</Domain>\n</Xdmf>\n";
   write_file_atomic(o_.directory / "nacre.xdmf", x.str());
 }
