@@ -6,6 +6,7 @@
 // solver, and these read dyn::Snapshot.
 #include <nacre/deck/deck.hpp>
 #include <nacre/dyn/simulation.hpp>
+#include <nacre/fracture/crack.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/results.hpp>
@@ -23,6 +24,9 @@ struct SeriesRow {
   dyn::Energies e;
   double reaction = 0;
   int ruptured = 0;
+  fracture::CrackReading crack;  ///< the crack from the notch (fracture/crack.hpp)
+  double crack_speed = 0;        ///< d(crack extension)/dt since the previous row, mm/s (0 on the first row)
+  double crack_speed_rayleigh = 0;  ///< crack_speed over the bricks' Rayleigh wave speed
   double dt = 0;                 ///< step in use (the adaptive mode changes it)
   double critical_estimate = 0;  ///< the stability monitor's estimated critical step at the last check
   double seconds = 0;

@@ -11,6 +11,7 @@
 #include <nacre/core/format.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/bie.hpp>
+#include <nacre/fracture/crack.hpp>
 #include <nacre/io/results.hpp>
 #include <nacre/geometry/specimen.hpp>
 
@@ -309,8 +310,25 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
   if (log && writer.stale_temporaries_removed() > 0)
     *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
          << writer.directory().string() << "/\n";
+  // the crack of every row (fracture/crack.hpp) and its tip speed against the bricks' Rayleigh speed
+  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);
+  const double rayleigh = fracture::rayleigh_speed_plane_stress(p.youngs_modulus, p.poisson, p.density);
+  std::vector<double> iface_dmg;
+  std::vector<int> iface_state;
+  auto read_crack = [&] {
+    sim.interface_damage(iface_dmg, iface_state);
+    return crack.measure(iface_state);
+  };
+  // the previous row's time and extension (a restart reads them from the restored state: its row)
+  double prev_time = sim.time(), prev_extension = restart.empty() ? 0.0 : read_crack().extension;
+  bool have_prev = !restart.empty();
   auto make_row = [&] {
     SeriesRow r;
+    r.crack = read_crack();
+    if (have_prev && sim.time() > prev_time)
+      r.crack_speed = (r.crack.extension - prev_extension) / (sim.time() - prev_time);
+    r.crack_speed_rayleigh = r.crack_speed / rayleigh;
+    prev_time = sim.time(), prev_extension = r.crack.extension, have_prev = true;
     r.step = sim.steps();
     r.time = sim.time();
     r.displacement = sim.displacement();
@@ -374,6 +392,14 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     j["time"] = sim.time();
     j["end_time"] = D.end_time;
     j["ruptured"] = sim.ruptured();
+    {
+      const fracture::CrackReading c = read_crack();
+      j["crack"] = {{"interfaces", c.interfaces}, {"bed", c.bed}, {"head", c.head},
+                    {"tip_x", c.tip_x}, {"tip_y", c.tip_y}, {"notch_tip_x", crack.notch_tip_x()},
+                    {"extension", c.extension}, {"path_length", c.path_length}, {"deflection", c.deflection},
+                    {"process_zone", c.process_zone}, {"process_zone_extent", c.process_zone_extent},
+                    {"rayleigh_speed", rayleigh}};
+    }
     j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
     j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
     j["seconds"] = elapsed();

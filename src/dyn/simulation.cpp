@@ -468,20 +468,25 @@ Snapshot Simulation::snapshot() const {
     s.brick_syy[b] += sig[1] * area, barea[b] += area;
   }
   for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
-  // interface damage (bed/head only)
-  const int nm = I.m.n_mortar;
-  Kokkos::View<double*> dmg("nacre::dyn::damage", std::max(nm, 1));
-  Kokkos::View<int*> st("nacre::dyn::damage_state", std::max(nm, 1));
-  interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
+  interface_damage(s.iface_damage, s.iface_state);
+  return s;
+}
+
+void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>& state) const {
+  auto& I = *impl_;
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
+  const int nm = I.m.n_mortar;  // bed/head only
+  Kokkos::View<double*> dmg(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage"), std::max(nm, 1));
+  Kokkos::View<int*> st(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage_state"), std::max(nm, 1));
+  dyn::interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
-  s.iface_damage.assign(nm, 0.0);
-  s.iface_state.assign(nm, 0);
+  damage.assign(nm, 0.0);
+  state.assign(nm, 0);
   for (int i = 0; i < nm; ++i) {  // back to the geometry's interface order
     const auto g = static_cast<std::size_t>(I.map.iface_geom[i]);
-    s.iface_damage[g] = hd(i), s.iface_state[g] = hs(i);
+    damage[g] = hd(i), state[g] = hs(i);
   }
-  return s;
 }
 
 namespace {

@@ -29,7 +29,10 @@ def check(cond, msg):
 
 
 cols = ["step", "time", "displacement", "strain_energy", "kinetic_energy", "cohesive_energy",
-        "damping_dissipated", "external_work", "balance_residual", "reaction", "ruptured", "dt", "critical_estimate", "seconds"]
+        "damping_dissipated", "external_work", "balance_residual", "reaction", "ruptured", "crack_interfaces",
+        "crack_bed", "crack_head", "crack_tip_x", "crack_tip_y", "crack_extension", "crack_path_length",
+        "crack_deflection", "process_zone", "process_zone_extent", "crack_speed", "crack_speed_rayleigh", "dt",
+        "critical_estimate", "seconds"]
 rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
 check(len(rows) >= (1 if partial else 2), "series.csv has too few rows")
 check(rows and list(rows[0].keys()) == cols, f"series.csv columns {list(rows[0].keys()) if rows else []}")
@@ -43,6 +46,24 @@ check(steps == sorted(set(steps)), "steps not strictly increasing")
 times = [float(r["time"]) for r in rows]
 check(all(a < b for a, b in zip(times, times[1:])), "time does not increase")
 summary = json.load(open(os.path.join(out, "summary.json")))
+# the crack columns (docs/fracture.md): a part of the ruptured joints, path >= extension, the speed
+# the change of extension between rows, over the Rayleigh speed in summary.json
+crack = summary.get("crack")
+check(crack is not None and crack.get("rayleigh_speed", 0) > 0, "summary.json lacks crack.rayleigh_speed")
+prev = None
+for r in rows:
+    n, ext, path = int(r["crack_interfaces"]), float(r["crack_extension"]), float(r["crack_path_length"])
+    check(0 <= n <= int(r["ruptured"]) and n == int(r["crack_bed"]) + int(r["crack_head"]),
+          f"step {r['step']}: crack joints {n} vs ruptured {r['ruptured']}, bed + head")
+    check(ext >= 0 and path >= ext * (1 - 1e-12), f"step {r['step']}: path {path} shorter than extension {ext}")
+    check(abs(float(r["crack_tip_x"]) - crack["notch_tip_x"] - ext) <= 1e-9 or ext == 0,
+          f"step {r['step']}: extension is not tip x - notch tip x")
+    if prev is not None and crack:
+        v = (ext - float(prev["crack_extension"])) / (float(r["time"]) - float(prev["time"]))
+        check(abs(float(r["crack_speed"]) - v) <= 1e-6 * max(1.0, abs(v)), f"step {r['step']}: crack_speed {r['crack_speed']} vs {v}")
+        check(abs(float(r["crack_speed_rayleigh"]) * crack["rayleigh_speed"] - float(r["crack_speed"])) <=
+              1e-9 * max(1.0, abs(v)), f"step {r['step']}: crack_speed_rayleigh inconsistent")
+    prev = r
 for k in ["method", "status", "bricks", "dt", "steps", "element_types", "device_bytes"]:
     check(k in summary, f"summary.json lacks {k}")
 nb = summary["bricks"]

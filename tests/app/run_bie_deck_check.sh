@@ -48,6 +48,15 @@ xs = np.sort(mid[:, 0])
 assert abs(xs[0] - notch) <= bw, f"the crack starts at x = {xs[0]:.4g} mm, not at the notch tip {notch:g}"
 gap = np.diff(xs).max() if n > 1 else 0.0
 assert gap <= 2 * bw, f"the ruptured joints have a gap of {gap:.4g} mm (> {2 * bw:g})"
+# the run's own crack reading (summary.json "crack", docs/fracture.md) sees the same crack: most of
+# the ruptured joints connected to the notch, the tip at the far end of the run of joints
+c = s["crack"]
+assert c["interfaces"] >= 0.8 * n, f"the crack reading connects {c['interfaces']} of {n} ruptured joints"
+assert abs(c["tip_x"] - xs[-1]) <= bw, f"crack tip x = {c['tip_x']:.4g}, the last ruptured joint at {xs[-1]:.4g}"
+assert abs(c["extension"] - (c["tip_x"] - c["notch_tip_x"])) <= 1e-9 and c["extension"] > 0.5, c
+assert 1 - 1e-9 <= c["deflection"] < 1.5, f"deflection {c['deflection']} of a crack along one bed joint"
+print(f"crack reading: {c['interfaces']} joints, tip x = {c['tip_x']:.3f} mm, extension {c['extension']:.3f} mm, "
+      f"deflection {c['deflection']:.3f}")
 print(f"crack from the notch tip: {n} ruptured, x = {xs[0]:.3f} .. {xs[-1]:.3f} mm, "
       f"within {off:.3g} mm of the notch line, largest gap {gap:.3g} mm; {s['steps']} steps")
 PY

@@ -143,6 +143,10 @@ public:
   /// (0: none); the penalty then stiffens a joint to k (1 + 1.875 (dn / x1)^4).
   [[nodiscard]] double max_penetration() const;
   [[nodiscard]] Snapshot snapshot() const;
+  /// \brief Per bed/head interface, in the geometry's order: damage (0 intact .. 1 ruptured) and
+  /// state (0 elastic, 1 softening, 2 ruptured), as in Snapshot; for the crack reading of each row
+  /// without the snapshot's triangles.
+  void interface_damage(std::vector<double>& damage, std::vector<int>& state) const;
   /// \brief The step monitor's last reading (refreshed by every check; step_check() reads now).
   [[nodiscard]] const StepReport& step_report() const;
   /// \brief Evaluate the tangent step bound at the current state (as a check does) and return it.
