@@ -17,13 +17,6 @@ namespace {
 
 std::string num(double v) { return format_real(v, 17); }
 
-std::string crack_columns(const SeriesRow& r) {
-  const auto& c = r.crack;
-  return std::to_string(c.interfaces) + "," + std::to_string(c.bed) + "," + std::to_string(c.head) + "," +
-         num(c.tip_x) + "," + num(c.tip_y) + "," + num(c.extension) + "," + num(c.path_length) + "," +
-         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent) + "," +
-         num(r.crack_speed) + "," + num(r.crack_speed_rayleigh);
-}
 
 }  // namespace
 
@@ -45,17 +38,17 @@ std::string first_non_finite(const dyn::Snapshot& s) {
 
 std::string series_header() {
   return "step,time,displacement,strain_energy,kinetic_energy,cohesive_energy,damping_dissipated,external_work,"
-         "balance_residual,reaction,ruptured,crack_interfaces,crack_bed,crack_head,crack_tip_x,crack_tip_y,"
-         "crack_extension,crack_path_length,crack_deflection,process_zone,process_zone_extent,crack_speed,"
-         "crack_speed_rayleigh,dt,critical_estimate,seconds\n";
+         "balance_residual,reaction,ruptured," +
+         fracture::csv_header() + ",crack_speed,crack_speed_rayleigh,dt,critical_estimate,seconds\n";
 }
 
 std::string series_line(const SeriesRow& r) {
   const auto& e = r.e;
   return std::to_string(r.step) + "," + num(r.time) + "," + num(r.displacement) + "," + num(e.strain) + "," +
          num(e.kinetic) + "," + num(e.cohesive) + "," + num(e.damping_dissipated) + "," + num(e.external_work) + "," +
-         num(e.balance_residual) + "," + num(r.reaction) + "," + std::to_string(r.ruptured) + "," + crack_columns(r) +
-         "," + num(r.dt) + "," +
+         num(e.balance_residual) + "," + num(r.reaction) + "," + std::to_string(r.ruptured) + "," +
+         fracture::csv_columns(r.crack, 17) + "," + num(r.crack_speed) + "," + num(r.crack_speed_rayleigh) + "," +
+         num(r.dt) + "," +
          num(r.critical_estimate) + "," + num(r.seconds) + "\n";
 }
 

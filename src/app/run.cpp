@@ -5,6 +5,7 @@
 #include <nacre/app/run.hpp>
 #include <nacre/app/signals.hpp>
 #include <nacre/deck/deck.hpp>
+#include <nacre/fracture/crack.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/checkpoint.hpp>
@@ -197,9 +198,10 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     writer.checkpoint(last);
   };
   if (!cp) dump(0);
+  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);  // the crack_* columns
   solver.run([&](const mc::StepRecord& r) {
     current_step = r.step;
-    writer.row(r.step, mc::csv_row(r));
+    writer.row(r.step, mc::csv_row(r, crack.measure(solver.interface_states())));
     last = named_checkpoint();
     const bool final_step = r.displacement >= d.load.final_displacement * (1 - 1e-12);
     if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || final_step) dump(r.step);
@@ -239,7 +241,8 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
               << " completed steps and " << checkpoint_path.string() << " the last of them\n";
     return 4;
   }
-  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed()));
+  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed(), crack.measure(solver.interface_states()),
+                                  crack.notch_tip_x()));
   if (log) {
     const auto& pt = solver.times();
     *log << "nacre: done in " << elapsed() << " s; " << solver.global_cycle() << " cycles; time split: sweep "

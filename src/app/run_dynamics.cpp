@@ -393,12 +393,9 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     j["end_time"] = D.end_time;
     j["ruptured"] = sim.ruptured();
     {
-      const fracture::CrackReading c = read_crack();
-      j["crack"] = {{"interfaces", c.interfaces}, {"bed", c.bed}, {"head", c.head},
-                    {"tip_x", c.tip_x}, {"tip_y", c.tip_y}, {"notch_tip_x", crack.notch_tip_x()},
-                    {"extension", c.extension}, {"path_length", c.path_length}, {"deflection", c.deflection},
-                    {"process_zone", c.process_zone}, {"process_zone_extent", c.process_zone_extent},
-                    {"rayleigh_speed", rayleigh}};
+      auto& c = j["crack"];
+      fracture::put_json(c, read_crack(), crack.notch_tip_x());
+      c["rayleigh_speed"] = rayleigh;
     }
     j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
     j["execution_space"] = Kokkos::DefaultExecutionSpace::name();

@@ -4,6 +4,8 @@
 // reading is O(ruptured + softening) after an O(nodes) reset, small beside a row of steps.
 #include <nacre/fracture/crack.hpp>
 
+#include <nacre/core/format.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -146,6 +148,18 @@ std::vector<int> CrackTracker::crack_interfaces(std::span<const int> state) cons
   std::vector<int> m;
   (void)measure_impl(state, &m);
   return m;
+}
+
+std::string csv_header() {
+  return "crack_interfaces,crack_bed,crack_head,crack_tip_x,crack_tip_y,crack_extension,crack_path_length,"
+         "crack_deflection,process_zone,process_zone_extent";
+}
+
+std::string csv_columns(const CrackReading& c, int digits) {
+  auto num = [digits](double v) { return format_real(v, digits); };
+  return std::to_string(c.interfaces) + "," + std::to_string(c.bed) + "," + std::to_string(c.head) + "," +
+         num(c.tip_x) + "," + num(c.tip_y) + "," + num(c.extension) + "," + num(c.path_length) + "," +
+         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent);
 }
 
 double rayleigh_speed_plane_stress(double E, double nu, double rho) {

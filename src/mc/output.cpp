@@ -20,15 +20,15 @@ std::string num(double v) { return format_real(v, 10); }
 
 std::string csv_header() {
   return "step,displacement,energy,reaction,cycles,acceptance,ruptured,converged,step_size,"
-         "rot_step,increment,reverts,seconds,residual,polish_iterations\n";
+         "rot_step,increment,reverts,seconds,residual,polish_iterations," + fracture::csv_header() + "\n";
 }
 
-std::string csv_row(const StepRecord& r) {
+std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack) {
   return std::to_string(r.step) + "," + num(r.displacement) + "," + num(r.energy) + "," + num(r.reaction) + "," +
          std::to_string(r.cycles) + "," + num(r.acceptance) + "," + std::to_string(r.ruptured) + "," +
          (r.converged ? "1" : "0") + "," + num(r.step_size) + "," + num(r.rot_step) + "," + num(r.increment) + "," +
          std::to_string(r.reverts) + "," + num(r.seconds) + "," + num(r.residual) + "," +
-         std::to_string(r.polish_iterations) + "\n";
+         std::to_string(r.polish_iterations) + "," + fracture::csv_columns(crack, 10) + "\n";
 }
 
 io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
@@ -81,7 +81,8 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
   return snap;
 }
 
-std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds) {
+std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
+                         const fracture::CrackReading& crack, double notch_tip_x) {
   const auto& m = solver.model();
   const auto& pt = solver.times();
   nlohmann::ordered_json j;
@@ -114,6 +115,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["presimulation_seconds_per_cycle"] = presim;
   if (!solver.presim().empty()) j["presimulation_pick"] = m.colouring_name;
   // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
+  fracture::put_json(j["crack"], crack, notch_tip_x);
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 

@@ -186,6 +186,18 @@ int Solver::ruptured() {
   return r;
 }
 
+std::vector<std::int8_t> Solver::interface_states() {
+  Kokkos::Timer timer;
+  Field<std::int8_t> st(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_state"),
+                        m_.n_interfaces);
+  interface_state(space_, m_, Field<double>(), st);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
+  std::vector<std::int8_t> out(static_cast<std::size_t>(m_.n_interfaces));
+  for (int i = 0; i < m_.n_interfaces; ++i) out[m_.iface_perm[i]] = h(i);  // back to the geometry's order
+  times_.energy += timer.seconds();
+  return out;
+}
+
 double Solver::residual() {
   Kokkos::Timer timer;
   const double r = polisher_.residual(space_, m_, scale_);

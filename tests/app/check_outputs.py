@@ -28,10 +28,17 @@ for col in ["step", "displacement", "energy", "reaction", "cycles", "acceptance"
             "residual", "polish_iterations"]:
     check(col in rows[0], f"steps.csv lacks column {col}")
 check([int(r["step"]) for r in rows] == list(range(1, len(rows) + 1)), "steps are not 1..n")
+# the crack reading (docs/fracture.md): joints connected to the notch, a part of the ruptured ones
+for r in rows:
+    n, ext, path = int(r["crack_interfaces"]), float(r["crack_extension"]), float(r["crack_path_length"])
+    check(0 <= n <= int(r["ruptured"]) and n == int(r["crack_bed"]) + int(r["crack_head"]),
+          f"step {r['step']}: crack joints {n} vs ruptured {r['ruptured']}, bed + head")
+    check(ext >= 0 and path >= ext * (1 - 1e-9), f"step {r['step']}: crack path {path} shorter than extension {ext}")
 check(all(float(a["displacement"]) < float(b["displacement"]) for a, b in zip(rows, rows[1:])),
       "displacement does not increase")
 summary = json.load(open(os.path.join(out, "summary.json")))
 check(summary["steps"] == len(rows), "summary.json steps != rows")
+check(summary["crack"]["interfaces"] == int(rows[-1]["crack_interfaces"]), "summary.json crack != the last row's")
 if summary.get("convergence") == "residual":  # converged means the residual says so
     tol = summary["residual_tolerance"]
     check(all(float(r["residual"]) < tol and r["converged"] == "1" for r in rows), "a step above the residual tolerance")

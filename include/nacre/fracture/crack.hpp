@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace nacre::fracture {
@@ -71,6 +72,21 @@ private:
   std::vector<int> roots_;                       ///< nodes on the notch
   double notch_tip_x_ = 0, notch_y_ = 0;
 };
+
+/// \brief The reading's CSV columns, shared by steps.csv and series.csv: the header names
+/// ("crack_interfaces,...,process_zone_extent", no newline) and one row's values, reals to `digits`.
+[[nodiscard]] std::string csv_header();
+[[nodiscard]] std::string csv_columns(const CrackReading& c, int digits);
+
+/// \brief The reading as members of a JSON object (summary.json's "crack" of both families);
+/// a template so this file needs no JSON library.
+template <class Json>
+void put_json(Json& j, const CrackReading& c, double notch_tip_x) {
+  j["interfaces"] = c.interfaces, j["bed"] = c.bed, j["head"] = c.head;
+  j["tip_x"] = c.tip_x, j["tip_y"] = c.tip_y, j["notch_tip_x"] = notch_tip_x;
+  j["extension"] = c.extension, j["path_length"] = c.path_length, j["deflection"] = c.deflection;
+  j["process_zone"] = c.process_zone, j["process_zone_extent"] = c.process_zone_extent;
+}
 
 /// \brief Rayleigh wave speed of an isotropic elastic solid in plane stress (the bricks'
 /// in-plane model): the root xi in (0, 1) of (2 - xi^2)^2 = 4 sqrt(1 - xi^2 k^2) sqrt(1 - xi^2),

@@ -3,6 +3,7 @@
 /// \brief The Monte Carlo solver's side of the outputs: its CSV rows, its dump snapshot (named
 /// brick / vertex / interface fields), its summary, and its checkpoint as named arrays with
 /// range checks on the way back in. io stays solver-neutral; this file translates.
+#include <nacre/fracture/crack.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/results.hpp>
 #include <nacre/mc/solver.hpp>
@@ -12,7 +13,8 @@
 namespace nacre::mc {
 
 [[nodiscard]] std::string csv_header();
-[[nodiscard]] std::string csv_row(const StepRecord& r);
+/// \brief The step's row; the crack reading of its state goes in the crack_* columns.
+[[nodiscard]] std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack);
 
 /// \brief Poses, displaced polygon vertices, brick energies (half of each interface to each
 /// side), interface ends, energies and states, in original order.
@@ -21,7 +23,9 @@ namespace nacre::mc {
 
 /// \brief summary.json: sizes, colouring (and the pick of colouring = "fastest" with its
 /// timings), generator, seed, threads, backend, steps, cycles, times.
-[[nodiscard]] std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds);
+/// The crack of the final state (fracture/crack.hpp) goes in "crack".
+[[nodiscard]] std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
+                                       const fracture::CrackReading& crack, double notch_tip_x);
 
 /// \brief The checkpoint as named arrays (solver "mc"); `fingerprint` and `deck_text` identify
 /// the deck that made it, `final_displacement` the end of its loading programme.

@@ -87,6 +87,9 @@ public:
   double reaction();
   /// \brief Interfaces at rupture (separated past x1 + x2 along the whole segment: cohesive::min_separation).
   int ruptured();
+  /// \brief Per interface, in the geometry's order: 0 elastic, 1 softening, 2 ruptured (as the
+  /// dumps' "state"; fracture::CrackTracker reads the crack from it).
+  [[nodiscard]] std::vector<std::int8_t> interface_states();
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
   /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
