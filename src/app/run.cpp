@@ -193,15 +193,22 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   };
   if (progress) solver.on_progress = progress_line;
   else if (heartbeat) solver.on_progress = heartbeat_line;
+  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);  // the crack_* columns, the dumps' "crack"
+  std::vector<double> iface_energy;
+  auto read_crack = [&] {
+    const auto st = solver.interface_states(&iface_energy);
+    return crack.measure(st, iface_energy);
+  };
   auto dump = [&](int step) {
-    writer.dump(mc::snapshot(solver, specimen, interfaces, step));
+    io::Snapshot snap = mc::snapshot(solver, specimen, interfaces, step);
+    snap.fields.push_back({io::Centre::interface, "crack", crack.crack_mask(solver.interface_states()), 1});
+    writer.dump(snap);
     writer.checkpoint(last);
   };
   if (!cp) dump(0);
-  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);  // the crack_* columns
   solver.run([&](const mc::StepRecord& r) {
     current_step = r.step;
-    writer.row(r.step, mc::csv_row(r, crack.measure(solver.interface_states())));
+    writer.row(r.step, mc::csv_row(r, read_crack()));
     last = named_checkpoint();
     const bool final_step = r.displacement >= d.load.final_displacement * (1 - 1e-12);
     if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || final_step) dump(r.step);
@@ -241,8 +248,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
               << " completed steps and " << checkpoint_path.string() << " the last of them\n";
     return 4;
   }
-  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed(), crack.measure(solver.interface_states()),
-                                  crack.notch_tip_x()));
+  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed(), read_crack(), crack.notch_tip_x()));
   if (log) {
     const auto& pt = solver.times();
     *log << "nacre: done in " << elapsed() << " s; " << solver.global_cycle() << " cycles; time split: sweep "

@@ -313,11 +313,16 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
   // the crack of every row (fracture/crack.hpp) and its tip speed against the bricks' Rayleigh speed
   const fracture::CrackTracker crack(specimen, interfaces, d.geometry);
   const double rayleigh = fracture::rayleigh_speed_plane_stress(p.youngs_modulus, p.poisson, p.density);
-  std::vector<double> iface_dmg;
+  std::vector<double> iface_dmg, iface_energy;
   std::vector<int> iface_state;
   auto read_crack = [&] {
-    sim.interface_damage(iface_dmg, iface_state);
-    return crack.measure(iface_state);
+    sim.interface_damage(iface_dmg, iface_state, &iface_energy);
+    return crack.measure(iface_state, iface_energy);
+  };
+  // the dumps' interface field "crack": the path from the notch (docs/fracture.md)
+  auto with_crack = [&](io::Snapshot o, const dyn::Snapshot& snap) {
+    o.fields.push_back({io::Centre::interface, "crack", crack.crack_mask(snap.iface_state), 1});
+    return o;
   };
   // the previous row's time and extension (a restart reads them from the restored state: its row)
   double prev_time = sim.time(), prev_extension = restart.empty() ? 0.0 : read_crack().extension;
@@ -396,6 +401,8 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
       auto& c = j["crack"];
       fracture::put_json(c, read_crack(), crack.notch_tip_x());
       c["rayleigh_speed"] = rayleigh;
+      c["thickness"] = p.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
+      c["bed_work_of_fracture"] = d.mortar.bed.k * d.mortar.bed.x1 * d.mortar.bed.x2;
     }
     j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
     j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
@@ -423,7 +430,7 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     writer.row(r.step, series_line(r), false);
     const dyn::Snapshot snap = sim.snapshot();
     if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer.dump(fields.fields(0, snap));
+    writer.dump(with_crack(fields.fields(0, snap), snap));
     writer.checkpoint(to_named(checkpoint(), d));
   }
 
@@ -465,7 +472,7 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
       DynCheckpoint c = checkpoint();
       if (auto q = non_finite(c.state); !q.empty())
         return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-      writer.dump(fields.fields(step, snap));  // the rows first, then the dump, then the checkpoint
+      writer.dump(with_crack(fields.fields(step, snap), snap));  // the rows first, then the dump, then the checkpoint
       writer.checkpoint(to_named(c, d));
       last_flush = elapsed();
       if (log && !progress) {

@@ -472,20 +472,26 @@ Snapshot Simulation::snapshot() const {
   return s;
 }
 
-void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>& state) const {
+void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>& state,
+                                  std::vector<double>* energy) const {
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
   const int nm = I.m.n_mortar;  // bed/head only
   Kokkos::View<double*> dmg(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage"), std::max(nm, 1));
   Kokkos::View<int*> st(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage_state"), std::max(nm, 1));
-  dyn::interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st);
+  Kokkos::View<double*> en;
+  if (energy) en = Kokkos::View<double*>(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"), std::max(nm, 1));
+  dyn::interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st, en);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
+  auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, en);
   damage.assign(nm, 0.0);
   state.assign(nm, 0);
+  if (energy) energy->assign(nm, 0.0);
   for (int i = 0; i < nm; ++i) {  // back to the geometry's interface order
     const auto g = static_cast<std::size_t>(I.map.iface_geom[i]);
     damage[g] = hd(i), state[g] = hs(i);
+    if (energy) (*energy)[g] = he(i);
   }
 }
 

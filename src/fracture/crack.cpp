@@ -78,12 +78,15 @@ CrackTracker::CrackTracker(const geometry::Specimen& s, const geometry::Interfac
 }
 
 template <class T>
-CrackReading CrackTracker::measure_impl(std::span<const T> state, std::vector<int>* members) const {
+CrackReading CrackTracker::measure_impl(std::span<const T> state, std::span<const double> energy,
+                                        std::vector<int>* members) const {
   const std::size_t ni = end0_.size(), nn = node_x_.size();
-  if (state.size() != ni)
-    throw std::invalid_argument("crack: " + std::to_string(state.size()) + " interface states for " +
-                                std::to_string(ni) + " interfaces");
+  if (state.size() != ni || (!energy.empty() && energy.size() != ni))
+    throw std::invalid_argument("crack: " + std::to_string(state.size()) + " interface states and " +
+                                std::to_string(energy.size()) + " energies for " + std::to_string(ni) + " interfaces");
   CrackReading r;
+  for (std::size_t i = 0; i < energy.size(); ++i)  // in interface order: the same sum on every backend
+    if (state[i] != 0) r.fracture_energy += energy[i];
   r.tip_x = notch_tip_x_, r.tip_y = notch_y_;
   constexpr double inf = std::numeric_limits<double>::infinity();
   std::vector<double> dist(nn, inf);
@@ -141,25 +144,46 @@ CrackReading CrackTracker::measure_impl(std::span<const T> state, std::vector<in
   return r;
 }
 
-CrackReading CrackTracker::measure(std::span<const int> state) const { return measure_impl(state, nullptr); }
-CrackReading CrackTracker::measure(std::span<const std::int8_t> state) const { return measure_impl(state, nullptr); }
+CrackReading CrackTracker::measure(std::span<const int> state, std::span<const double> energy) const {
+  return measure_impl(state, energy, nullptr);
+}
+CrackReading CrackTracker::measure(std::span<const std::int8_t> state, std::span<const double> energy) const {
+  return measure_impl(state, energy, nullptr);
+}
 
 std::vector<int> CrackTracker::crack_interfaces(std::span<const int> state) const {
   std::vector<int> m;
-  (void)measure_impl(state, &m);
+  (void)measure_impl(state, std::span<const double>{}, &m);
   return m;
+}
+
+namespace {
+template <class T>
+std::vector<std::int8_t> mask_of(const CrackTracker& t, std::span<const T> state, std::size_t n) {
+  std::vector<int> ints(state.begin(), state.end());
+  std::vector<std::int8_t> mask(n, 0);
+  for (int i : t.crack_interfaces(ints)) mask[static_cast<std::size_t>(i)] = 1;
+  return mask;
+}
+}  // namespace
+
+std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const int> state) const {
+  return mask_of(*this, state, end0_.size());
+}
+std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const std::int8_t> state) const {
+  return mask_of(*this, state, end0_.size());
 }
 
 std::string csv_header() {
   return "crack_interfaces,crack_bed,crack_head,crack_tip_x,crack_tip_y,crack_extension,crack_path_length,"
-         "crack_deflection,process_zone,process_zone_extent";
+         "crack_deflection,process_zone,process_zone_extent,fracture_energy";
 }
 
 std::string csv_columns(const CrackReading& c, int digits) {
   auto num = [digits](double v) { return format_real(v, digits); };
   return std::to_string(c.interfaces) + "," + std::to_string(c.bed) + "," + std::to_string(c.head) + "," +
          num(c.tip_x) + "," + num(c.tip_y) + "," + num(c.extension) + "," + num(c.path_length) + "," +
-         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent);
+         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent) + "," + num(c.fracture_energy);
 }
 
 double rayleigh_speed_plane_stress(double E, double nu, double rho) {

@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from nacre_plot import save_png  # noqa: E402  (one atomic PNG writer for both scripts)
+from nacre_plot import r_curve, save_png  # noqa: E402  (one atomic PNG writer, one R-curve for both scripts)
 
 RASTER_TRIANGLES = 200_000  # ~50k bricks: past this, polygons are sub-pixel at dpi 130
 
@@ -95,6 +95,7 @@ def crack(out, dump, magnify=None, target=None, raster=None):
         syy = d["/bricks/syy"][:]
         ipts = d["/interfaces/points"][:].reshape(-1, 2, 2) if "/interfaces/points" in d else None
         state = d["/interfaces/state"][:] if "/interfaces/state" in d else None
+        on_crack = d["/interfaces/crack"][:] if "/interfaces/crack" in d else None
         time, disp = float(d.attrs["time"]), float(d.attrs["displacement"])
     # displacements are small next to a brick: magnify them so the crack opening shows
     e1, e2 = ref[conn[:, 1]] - ref[conn[:, 0]], ref[conn[:, 2]] - ref[conn[:, 0]]
@@ -126,11 +127,20 @@ def crack(out, dump, magnify=None, target=None, raster=None):
         broken = ipts[state == 2]
         nr = len(broken)
         ax.add_collection(LineCollection(broken, colors="black", linewidths=1.0))
+    ncrack = 0
+    if ipts is not None and on_crack is not None and (on_crack == 1).any():
+        sel = on_crack == 1  # the crack from the notch (docs/fracture.md): thick, its tip marked
+        ncrack = int(sel.sum())
+        ax.add_collection(LineCollection(ipts[sel], colors="darkviolet", linewidths=2.0, zorder=3))
+        ends, ends_ref = ipts[sel].reshape(-1, 2), iref[sel].reshape(-1, 2)
+        tip = ends[np.argmax(ends_ref[:, 0])]
+        ax.plot([tip[0]], [tip[1]], "x", color="black", markersize=9, mew=2, zorder=4)
     ax.autoscale()
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(f"t = {time * 1e6:.4g} µs, D = {disp:.4g} mm (displacements x{mag:.3g}): {nr} ruptured (black)")
+    ax.set_title(f"t = {time * 1e6:.4g} µs, D = {disp:.4g} mm (displacements x{mag:.3g}): {nr} ruptured (black)\n"
+                 f"{ncrack} on the crack from the notch (violet), its tip x", fontsize=10)
     fig.tight_layout()
     save_png(fig, target or os.path.join(out, "crack.png"), dpi=130)
     plt.close(fig)
@@ -149,6 +159,7 @@ def main(argv):
     s = series(out)
     if s is not None and len(s["time"]) > 1:
         energy_force(out, s)
+    r_curve(out, list(csv.DictReader(open(os.path.join(out, "series.csv")))))
     dumps = sorted(glob.glob(os.path.join(out, "dump_*.h5")))
     dump = args[1] if len(args) > 1 else (dumps[-1] if dumps else None)
     if dump and os.path.exists(os.path.join(out, "mesh.h5")):

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Charts of a nacre run: energy and reaction force against applied displacement
-(energy_force.png) and the final crack (crack.png: bricks coloured by energy, displaced,
-ruptured interfaces in red). Usage: nacre_plot.py OUTPUT_DIR"""
+(energy_force.png), the final crack (crack.png: bricks coloured by energy, displaced,
+ruptured interfaces in red, the crack from the notch dark red) and the R-curve (r_curve.csv,
+r_curve.png; docs/fracture.md). Usage: nacre_plot.py OUTPUT_DIR"""
 import csv
 import os
 import re
@@ -27,8 +28,90 @@ def save_png(fig, path, **kw):
             os.remove(tmp)
         raise
 
+def r_curve_points(rows, thickness, gc):
+    """The R-curve of a run's table (steps.csv or series.csv rows with crack_extension and
+    fracture_energy; docs/fracture.md): one point each time the crack extension reaches a new
+    largest value, G_R = the energy of fracture gained since the previous point over the extension
+    gained, per unit thickness (the first point measured from the last row before the crack left
+    the notch). Returns dicts of extension, fracture_energy, G_R and G_R / gc."""
+    pts, amax, base = [], 0.0, None
+    for r in rows:
+        a, w = float(r["crack_extension"]), float(r["fracture_energy"])
+        if a <= amax + 1e-12:
+            if not pts:
+                base = (0.0, w)  # before the crack leaves the notch: the last such row
+            continue
+        a0, w0 = (pts[-1]["extension"], pts[-1]["fracture_energy"]) if pts else (base or (0.0, 0.0))
+        g = (w - w0) / (a - a0) / thickness
+        pts.append(dict(extension=a, fracture_energy=w, G_R=g, toughening=g / gc))
+        amax = a
+    return pts
+
+
+def toughening_ratio(pts, thickness, gc):
+    """The mean G_R over the second half of the final extension, over gc (NaN with < 2 points)."""
+    if len(pts) < 2:
+        return float("nan")
+    half = next(p for p in pts if p["extension"] >= 0.5 * pts[-1]["extension"])
+    if half is pts[-1]:
+        half = pts[-2]
+    da = pts[-1]["extension"] - half["extension"]
+    return (pts[-1]["fracture_energy"] - half["fracture_energy"]) / da / thickness / gc
+
+
+def r_curve(out, rows):
+    """r_curve.csv and r_curve.png of a run directory (both solver families); prints the
+    toughening ratio. Nothing is written for a run whose summary.json has no crack reading."""
+    import json
+    summ_path = os.path.join(out, "summary.json")
+    crack = json.load(open(summ_path)).get("crack", {}) if os.path.exists(summ_path) else {}
+    if not rows or "fracture_energy" not in rows[0] or "bed_work_of_fracture" not in crack:
+        return None
+    t, gc = crack["thickness"], crack["bed_work_of_fracture"]
+    pts = r_curve_points(rows, t, gc)
+    ratio = toughening_ratio(pts, t, gc)
+    path = os.path.join(out, "r_curve.csv")
+    tmp = os.path.join(out, ".r_curve.csv.tmp%d" % os.getpid())
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["extension", "fracture_energy", "G_R", "toughening"])
+        w.writeheader()
+        for p in pts:
+            w.writerow({k: repr(v) for k, v in p.items()})
+    os.replace(tmp, path)
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    if pts:
+        ax.step([p["extension"] for p in pts], [p["G_R"] for p in pts], where="pre", color="C0",
+                label="G_R (energy of fracture gained / extension gained)")
+    ax.axhline(gc, color="gray", ls="--", label=f"mortar's work of fracture k x1 x2 = {gc:.4g}")
+    ax.set_xlabel("crack extension (along the ligament)")
+    ax.set_ylabel("G_R (energy per unit crack area)")
+    ax.set_ylim(bottom=0)
+    ax.set_title(f"R-curve: toughening ratio {ratio:.3g} (mean G_R over the second half / k x1 x2)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_png(fig, os.path.join(out, "r_curve.png"), dpi=120)
+    plt.close(fig)
+    print(f"crack: extension {crack.get('extension', 0):.4g} to tip x = {crack.get('tip_x', 0):.4g}, "
+          f"deflection {crack.get('deflection', 0):.3f}, toughening ratio {ratio:.3g} (r_curve.csv)")
+    return ratio
+
+
+def draw_crack(ax, ipts, iref, on_crack):
+    """The crack from the notch (the dumps' "crack" field, docs/fracture.md) drawn thick, its tip
+    (the end point furthest along x in the reference frame) marked; returns its joint count."""
+    sel = on_crack == 1
+    if not sel.any():
+        return 0
+    ax.add_collection(LineCollection(ipts[sel], colors="darkred", linewidths=2.4, zorder=3))
+    ends, ends_ref = ipts[sel].reshape(-1, 2), iref[sel].reshape(-1, 2)
+    tip = ends[np.argmax(ends_ref[:, 0])]
+    ax.plot([tip[0]], [tip[1]], "x", color="black", markersize=9, mew=2, zorder=4)
+    return int(sel.sum())
+
+
 def main(out):
     rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
+    r_curve(out, rows)
     D = np.array([0.0] + [float(r["displacement"]) for r in rows])
     E = np.array([0.0] + [float(r["energy"]) for r in rows])
     F = np.array([0.0] + [float(r["reaction"]) for r in rows])
@@ -68,6 +151,7 @@ def main(out):
         area = m["/bricks/area"][:]
         ipts = d["/interfaces/points"][:].reshape(-1, 2, 2)
         state = d["/interfaces/state"][:]
+        on_crack = d["/interfaces/crack"][:] if "/interfaces/crack" in d else np.zeros_like(state)
         disp = d.attrs["displacement"]
         ref = m["/bricks/reference_points"][:]
         iref = m["/interfaces/reference_points"][:].reshape(-1, 2, 2)
@@ -94,10 +178,11 @@ def main(out):
     ax.add_collection(LineCollection(broken, colors="red", linewidths=1.2, label="ruptured"))
     soft = ipts[state == 1]
     ax.add_collection(LineCollection(soft, colors="orange", linewidths=0.6, label="softening"))
+    ncrack = draw_crack(ax, ipts, iref, on_crack)
     ax.autoscale()
     ax.set_aspect("equal")
     ax.set_title(f"D = {disp:.4g} (displacements x{mag:.0f}): {len(broken)} ruptured (red), "
-                 f"{len(soft)} softening (orange)")
+                 f"{len(soft)} softening (orange)\n{ncrack} on the crack from the notch (dark red), its tip x", fontsize=10)
     fig.tight_layout()
     save_png(fig, os.path.join(out, "crack.png"), dpi=120)
     plt.close(fig)

@@ -116,6 +116,8 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   if (!solver.presim().empty()) j["presimulation_pick"] = m.colouring_name;
   // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
   fracture::put_json(j["crack"], crack, notch_tip_x);
+  j["crack"]["thickness"] = 1.0;  // energies per unit depth: fracture_energy per unit crack length is G
+  j["crack"]["bed_work_of_fracture"] = d.mortar.bed.k * d.mortar.bed.x1 * d.mortar.bed.x2;
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 

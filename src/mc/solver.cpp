@@ -186,14 +186,21 @@ int Solver::ruptured() {
   return r;
 }
 
-std::vector<std::int8_t> Solver::interface_states() {
+std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
   Kokkos::Timer timer;
-  Field<std::int8_t> st(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_state"),
-                        m_.n_interfaces);
-  interface_state(space_, m_, Field<double>(), st);
+  using Kokkos::view_alloc, Kokkos::WithoutInitializing;
+  Field<std::int8_t> st(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state"), m_.n_interfaces);
+  Field<double> en;
+  if (energy) en = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy"), m_.n_interfaces);
+  interface_state(space_, m_, en, st);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
+  auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), en);
   std::vector<std::int8_t> out(static_cast<std::size_t>(m_.n_interfaces));
-  for (int i = 0; i < m_.n_interfaces; ++i) out[m_.iface_perm[i]] = h(i);  // back to the geometry's order
+  if (energy) energy->assign(out.size(), 0.0);
+  for (int i = 0; i < m_.n_interfaces; ++i) {  // back to the geometry's order
+    out[m_.iface_perm[i]] = h(i);
+    if (energy) (*energy)[m_.iface_perm[i]] = he(i);
+  }
   times_.energy += timer.seconds();
   return out;
 }

@@ -592,17 +592,20 @@ double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<Exec
   return r;
 }
 
-/// \brief Damage and state of interfaces [0, n).
+/// \brief Damage and state of interfaces [0, n), and their cohesive energy where `energy` is
+/// allocated (an empty View: not computed).
 template <class ExecutionSpace>
 void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n,
                       const Kokkos::View<double*, MemOf<ExecutionSpace>>& dmg,
-                      const Kokkos::View<int*, MemOf<ExecutionSpace>>& state) {
+                      const Kokkos::View<int*, MemOf<ExecutionSpace>>& state,
+                      const Kokkos::View<double*, MemOf<ExecutionSpace>>& energy = {}) {
   Kokkos::parallel_for("nacre::dyn::damage", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
                        KOKKOS_LAMBDA(const int i) {
                          double d;
                          int q;
                          op.damage(i, d, q);
                          dmg(i) = d, state(i) = q;
+                         if (energy.data()) energy(i) = op.energy(i);
                        });
 }
 

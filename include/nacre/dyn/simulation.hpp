@@ -145,8 +145,9 @@ public:
   [[nodiscard]] Snapshot snapshot() const;
   /// \brief Per bed/head interface, in the geometry's order: damage (0 intact .. 1 ruptured) and
   /// state (0 elastic, 1 softening, 2 ruptured), as in Snapshot; for the crack reading of each row
-  /// without the snapshot's triangles.
-  void interface_damage(std::vector<double>& damage, std::vector<int>& state) const;
+  /// without the snapshot's triangles. `energy` (optional): each joint's cohesive energy, N mm.
+  void interface_damage(std::vector<double>& damage, std::vector<int>& state,
+                        std::vector<double>* energy = nullptr) const;
   /// \brief The step monitor's last reading (refreshed by every check; step_check() reads now).
   [[nodiscard]] const StepReport& step_report() const;
   /// \brief Evaluate the tangent step bound at the current state (as a check does) and return it.

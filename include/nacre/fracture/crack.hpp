@@ -39,6 +39,10 @@ struct CrackReading {
   double deflection = 0;          ///< path_length / extension (0 when extension is 0)
   int process_zone = 0;           ///< softening interfaces connected to the crack (or the notch tip)
   double process_zone_extent = 0; ///< how far they reach beyond the tip along the ligament
+  /// Energy of fracture: the cohesive energy of every softening and ruptured joint (the reversible
+  /// law's stand-in for the work dissipated; docs/fracture.md), N mm (MC: per unit depth); 0
+  /// when no energies were given.
+  double fracture_energy = 0;
 };
 
 /// \brief The mortar network of one specimen, built once; measure() reads a state vector.
@@ -48,13 +52,17 @@ public:
 
   /// \brief Read the crack from per-interface states (geometry order; 0 elastic, 1 softening,
   /// 2 ruptured). Throws std::invalid_argument when the size is not the interface count.
-  [[nodiscard]] CrackReading measure(std::span<const int> state) const;
+  /// `energy` (optional, same order): each joint's cohesive energy, for fracture_energy.
+  [[nodiscard]] CrackReading measure(std::span<const int> state, std::span<const double> energy = {}) const;
   /// \brief The same from the 8-bit states the Monte Carlo output keeps.
-  [[nodiscard]] CrackReading measure(std::span<const std::int8_t> state) const;
+  [[nodiscard]] CrackReading measure(std::span<const std::int8_t> state, std::span<const double> energy = {}) const;
 
-  /// \brief The interfaces of the crack (geometry indices, ascending) for these states: for
-  /// dumps (the path drawn in ParaView) and tests.
+  /// \brief The interfaces of the crack (geometry indices, ascending) for these states.
   [[nodiscard]] std::vector<int> crack_interfaces(std::span<const int> state) const;
+  /// \brief Per interface 1 on the crack, else 0: the dumps' interface field "crack" (ParaView
+  /// draws the path by a threshold on it over the interface polylines).
+  [[nodiscard]] std::vector<std::int8_t> crack_mask(std::span<const int> state) const;
+  [[nodiscard]] std::vector<std::int8_t> crack_mask(std::span<const std::int8_t> state) const;
 
   [[nodiscard]] double notch_tip_x() const { return notch_tip_x_; }
   [[nodiscard]] double notch_y() const { return notch_y_; }
@@ -62,7 +70,7 @@ public:
 
 private:
   template <class T>
-  CrackReading measure_impl(std::span<const T> state, std::vector<int>* members) const;
+  CrackReading measure_impl(std::span<const T> state, std::span<const double> energy, std::vector<int>* members) const;
 
   std::vector<double> node_x_, node_y_;
   std::vector<int> end0_, end1_;                 ///< per interface: its two nodes
@@ -86,6 +94,7 @@ void put_json(Json& j, const CrackReading& c, double notch_tip_x) {
   j["tip_x"] = c.tip_x, j["tip_y"] = c.tip_y, j["notch_tip_x"] = notch_tip_x;
   j["extension"] = c.extension, j["path_length"] = c.path_length, j["deflection"] = c.deflection;
   j["process_zone"] = c.process_zone, j["process_zone_extent"] = c.process_zone_extent;
+  j["fracture_energy"] = c.fracture_energy;
 }
 
 /// \brief Rayleigh wave speed of an isotropic elastic solid in plane stress (the bricks'

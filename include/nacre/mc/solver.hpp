@@ -89,7 +89,8 @@ public:
   int ruptured();
   /// \brief Per interface, in the geometry's order: 0 elastic, 1 softening, 2 ruptured (as the
   /// dumps' "state"; fracture::CrackTracker reads the crack from it).
-  [[nodiscard]] std::vector<std::int8_t> interface_states();
+  /// `energy` (optional) gets each interface's cohesive energy in the same order.
+  [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
   /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
