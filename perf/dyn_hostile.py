@@ -124,7 +124,7 @@ def main():
         row = dict(case=name, method=method, angle=angle, bricks=summ.get("bricks"), exit=p.returncode, status=status,
                    critical_estimate=summ.get("step_bound_start"), dt=summ.get("dt"), dt_final=summ.get("dt_final"),
                    dt_changes=summ.get("dt_changes"), sliver_elements=summ.get("sliver_elements"),
-                   sliver_mass_added=summ.get("sliver_mass_added"), rows=len(series), worst_balance=worst,
+                   sliver_mass_added=summ.get("sliver_mass_added"), sliver_step_gain=summ.get("sliver_step_gain"), rows=len(series), worst_balance=worst,
                    growth_longest_run=summ.get("growth_longest_run"), end_time=summ.get("end_time"),
                    time=summ.get("time"), ruptured=summ.get("ruptured"), seconds=round(wall, 2),
                    why=msg if p.returncode else "")
@@ -148,14 +148,15 @@ def main():
         w.writeheader()
         w.writerows(rows)
     with open(os.path.join(out, "hostile.md"), "w") as f:
-        f.write("| case | bricks | critical (est.) s | dt s | slivers scaled (+mass) | rows | worst balance | outcome |\n")
+        f.write("| case | bricks | critical (est.) s | dt s | slivers scaled (+mass, element step gain) | rows | worst balance | outcome |\n")
         f.write("|---|---|---|---|---|---|---|---|\n")
         g = lambda x: "-" if x is None else format(x, ".3g")
+        gain = lambda r: f", x{r['sliver_step_gain']:.2f}" if r.get("sliver_step_gain") else ""
         for r in rows:
             outcome = "done" if r["exit"] == 0 else f"exit {r['exit']}: {r['why'][:160]}"
             f.write(f"| {r['case']} | {r['bricks']} | {g(r['critical_estimate'])} | {g(r['dt'])}"
                     f"{' -> ' + g(r['dt_final']) if r['dt_changes'] else ''} | {r['sliver_elements']} "
-                    f"(+{100 * (r['sliver_mass_added'] or 0):.2f} %) | {r['rows']} | {r['worst_balance']:.2g} | {outcome} |\n")
+                    f"(+{100 * (r['sliver_mass_added'] or 0):.2f} %{gain(r)}) | {r['rows']} | {r['worst_balance']:.2g} | {outcome} |\n")
     if bad:
         print("BROKEN:", ", ".join(bad))
         return 1

@@ -378,7 +378,7 @@ TEST_CASE("colouring = auto is a fixed rule; fastest times the candidates and ke
   d.solver.presim_cycles = 2;
   const mc::Solver b(d, s, f);
   CHECK(b.presim().size() == mc::colouring_strategies().size());
-  const std::string json = mc::summary_json(b, d, 0, 0.0);
+  const std::string json = mc::summary_json(b, d, 0, 0.0, fracture::CrackReading{}, 0.0);
   CHECK_THAT(json, ContainsSubstring("\"presimulation_pick\": \"" + b.model().colouring_name + "\""));
   CHECK_THAT(json, ContainsSubstring("\"colouring_rule\": \"fastest\""));
 }

@@ -86,7 +86,9 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
     return true;
   }
   // an argument vector, no shell: the output path is never interpreted
-  const int rc = spawn_and_wait({"python3", script.string(), dir.string()});
+  std::vector<std::string> cmd{"python3", script.string(), dir.string()};
+  if (!log) cmd.emplace_back("--quiet");  // the scripts print their findings (toughening ratio) unless quiet
+  const int rc = spawn_and_wait(cmd);
   if (rc == kNotStarted) {
     std::cerr << "nacre: warning: python3 not found; charts skipped\n";
     return true;
@@ -96,7 +98,10 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
               << "); the run's results are complete, no chart was left half-written\n";
     return false;
   }
-  if (log) *log << "nacre: charts: energy_force.png, crack.png\n";
+  if (log)
+    *log << "nacre: charts: "
+         << (script_name == "nacre_sweep_plot.py" ? "sweep.csv, sweep.png" : "energy_force.png, crack.png, r_curve.png")
+         << "\n";
   return true;
 }
 

@@ -36,4 +36,8 @@ void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool
 /// a missing script or python is a warning and returns true.
 bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log);
 
+/// \brief `nacre sweep DECK --set KEY=V1,V2 ...` (argv[1] == "sweep"; src/app/sweep.cpp): one run
+/// per combination of the values, resumable, then sweep.json, sweep.csv and sweep.png.
+int sweep_main(int argc, char* argv[]);
+
 }  // namespace nacre::app

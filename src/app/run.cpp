@@ -276,6 +276,7 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
+  if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);

@@ -291,7 +291,8 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
          << sim.element_types() << " element types, " << sim.bytes() / 1048576.0 << " MiB on the device\n";
   if (log && sim.sliver_elements() > 0)
     *log << "nacre: " << sim.sliver_elements() << " sliver elements (step bound below " << p.sliver_step_ratio
-         << " of the median element's) mass-scaled: +" << 100 * sim.sliver_mass_added() << " % of the specimen's mass\n";
+         << " of the median element's) mass-scaled: +" << 100 * sim.sliver_mass_added()
+         << " % of the specimen's mass, the elements' step bound x" << sim.sliver_step_gain() << "\n";
   if (log)
     *log << "nacre: stability monitor: balance within " << D.balance_tolerance << ", dt " << (adaptive ? "adaptive" : "fixed")
          << ", estimated critical step " << sim.step_report().estimate << " s at the start\n";
@@ -391,6 +392,7 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     j["sliver_step_ratio"] = p.sliver_step_ratio;
     j["sliver_elements"] = sim.sliver_elements();
     j["sliver_mass_added"] = sim.sliver_mass_added();
+    j["sliver_step_gain"] = sim.sliver_step_gain();
     j["why"] = why.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(why);
     j["critical_step"] = h_crit > 0 ? nlohmann::ordered_json(h_crit) : nlohmann::ordered_json(nullptr);
     j["steps"] = sim.steps();

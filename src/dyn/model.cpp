@@ -189,6 +189,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       return es.eigenvalues()(top);
     };
     for (std::size_t t = 0; t < types.size(); ++t) lam_t[t] = lam_of(types[t], nullptr);
+    const double lam_max_before = lam_t.empty() ? 0.0 : *std::max_element(lam_t.begin(), lam_t.end());
     std::vector<double> lam_free;
     for (std::size_t e = 0; e < map.elem_brick.size(); ++e)
       if (s.drive[map.elem_brick[e]] == geometry::Drive::free) lam_free.push_back(lam_t[map.elem_type[e]]);
@@ -241,6 +242,9 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       if (scaled[t]) ++m.sliver_elements;
     }
     m.sliver_mass_added = mass_before > 0 ? (mass_after - mass_before) / mass_before : 0.0;
+    // the elements' part of the step bound goes like 1 / sqrt(largest eigenvalue)
+    const double lam_max_after = lam_t.empty() ? 0.0 : *std::max_element(lam_t.begin(), lam_t.end());
+    m.sliver_step_gain = lam_max_after > 0 ? std::sqrt(lam_max_before / lam_max_after) : 1.0;
   }
 
   // ---- type tables: K, (M + h/2 C)^-1, mass, Theta, node positions; element step estimate

@@ -607,6 +607,7 @@ double Simulation::bie_residual() const {
 int Simulation::element_types() const { return impl_->m.n_types; }
 int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
 double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added; }
+double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
 
 double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,

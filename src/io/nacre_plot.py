@@ -2,7 +2,7 @@
 """Charts of a nacre run: energy and reaction force against applied displacement
 (energy_force.png), the final crack (crack.png: bricks coloured by energy, displaced,
 ruptured interfaces in red, the crack from the notch dark red) and the R-curve (r_curve.csv,
-r_curve.png; docs/fracture.md). Usage: nacre_plot.py OUTPUT_DIR"""
+r_curve.png; docs/fracture.md). Usage: nacre_plot.py OUTPUT_DIR [--quiet]"""
 import csv
 import os
 import re
@@ -91,8 +91,9 @@ def r_curve(out, rows):
     fig.tight_layout()
     save_png(fig, os.path.join(out, "r_curve.png"), dpi=120)
     plt.close(fig)
-    print(f"crack: extension {crack.get('extension', 0):.4g} to tip x = {crack.get('tip_x', 0):.4g}, "
-          f"deflection {crack.get('deflection', 0):.3f}, toughening ratio {ratio:.3g} (r_curve.csv)")
+    if "--quiet" not in sys.argv:
+        print(f"crack: extension {crack.get('extension', 0):.4g} to tip x = {crack.get('tip_x', 0):.4g}, "
+              f"deflection {crack.get('deflection', 0):.3f}, toughening ratio {ratio:.3g} (r_curve.csv)")
     return ratio
 
 
@@ -189,6 +190,7 @@ def main(out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
+    args = [a for a in sys.argv[1:] if a != "--quiet"]
+    if len(args) != 1:
         sys.exit(__doc__)
-    main(sys.argv[1])
+    main(args[0])

@@ -31,7 +31,7 @@ def check(cond, msg):
 cols = ["step", "time", "displacement", "strain_energy", "kinetic_energy", "cohesive_energy",
         "damping_dissipated", "external_work", "balance_residual", "reaction", "ruptured", "crack_interfaces",
         "crack_bed", "crack_head", "crack_tip_x", "crack_tip_y", "crack_extension", "crack_path_length",
-        "crack_deflection", "process_zone", "process_zone_extent", "crack_speed", "crack_speed_rayleigh", "dt",
+        "crack_deflection", "process_zone", "process_zone_extent", "fracture_energy", "crack_speed", "crack_speed_rayleigh", "dt",
         "critical_estimate", "seconds"]
 rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
 check(len(rows) >= (1 if partial else 2), "series.csv has too few rows")

@@ -115,6 +115,7 @@ struct Model {
   double step_estimate = 0;  ///< the elastic start's StepBound (monitor.hpp), computed on the host: start of the bisection
   int sliver_elements = 0;     ///< elements mass-scaled (Params::sliver_step_ratio)
   double sliver_mass_added = 0;              ///< mass they gained, relative to the specimen's
+  double sliver_step_gain = 1;               ///< the elements' step bound after / before the scaling
 };
 
 /// \brief Host bookkeeping that maps the model back to bricks and triangles (outputs).

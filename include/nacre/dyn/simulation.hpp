@@ -178,6 +178,8 @@ public:
   /// relative to the specimen's.
   [[nodiscard]] int sliver_elements() const;
   [[nodiscard]] double sliver_mass_added() const;
+  /// \brief The elements' part of the step bound with the scaling over without it (1: none).
+  [[nodiscard]] double sliver_step_gain() const;
   [[nodiscard]] std::size_t bricks() const;
 
   /// \brief BIE only (0 otherwise): largest 1-norm condition number of the per-type Jacobians

@@ -1,0 +1,255 @@
+// `nacre sweep DECK --set KEY=V1,V2 [--set KEY=...] [-o OUT]`: one run of the deck per combination
+// of the values, each in OUT/<leaf>=<value>[_<leaf>=<value>...]/ from a deck written beside it
+// (the deck with the keys set, OUT/<name>.toml), as a child nacre process (a crash or a bad value
+// stops that run, not the sweep). Resumable: a finished run is kept, an interrupted one restarted
+// from its checkpoint. Then sweep.json (the runs and their outcomes) and the combined table and
+// overlay charts (nacre_sweep_plot.py: sweep.csv, sweep.png; docs/fracture.md "Sweeps").
+#include "driver.hpp"
+
+#include <nacre/app/signals.hpp>
+#include <nacre/io/atomic_file.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.hpp>
+
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace nacre::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Axis {
+  std::vector<std::string> path;    // dotted key split: {"geometry", "angle"}
+  std::string key, leaf;            // "geometry.angle", "angle"
+  std::vector<std::string> values;  // as typed
+};
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream in(s);
+  while (std::getline(in, cur, sep)) out.push_back(cur);
+  if (!s.empty() && s.back() == sep) out.emplace_back();
+  return out;
+}
+
+/// "geometry.angle=0,30,60" -> an axis; UsageError naming what is wrong.
+Axis parse_set(const std::string& arg) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size())
+    throw UsageError("--set " + arg + ": expected SECTION.KEY=V1,V2,... (e.g. geometry.angle=0,30,60,90)");
+  Axis a;
+  a.key = arg.substr(0, eq);
+  a.path = split(a.key, '.');
+  if (a.path.size() < 2)
+    throw UsageError("--set " + arg + ": the key needs its section, e.g. geometry.angle or mortar.head.x2");
+  for (const auto& p : a.path)
+    if (p.empty()) throw UsageError("--set " + arg + ": an empty part in the key " + a.key);
+  a.leaf = a.path.back();
+  a.values = split(arg.substr(eq + 1), ',');
+  for (const auto& v : a.values)
+    if (v.empty()) throw UsageError("--set " + arg + ": an empty value in the list");
+  return a;
+}
+
+/// The TOML value a typed text stands for: an integer, a real, a boolean or else a string.
+void assign(toml::table& t, const std::string& key, const std::string& v) {
+  std::int64_t i = 0;
+  if (auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), i); ec == std::errc() && p == v.data() + v.size()) {
+    t.insert_or_assign(key, i);
+    return;
+  }
+  double x = 0;
+  if (auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), x); ec == std::errc() && p == v.data() + v.size()) {
+    t.insert_or_assign(key, x);
+    return;
+  }
+  if (v == "true" || v == "false") {
+    t.insert_or_assign(key, v == "true");
+    return;
+  }
+  t.insert_or_assign(key, v);
+}
+
+/// Set the dotted key in the deck (sections created where missing); UsageError if a part of the
+/// path is a value, not a section.
+void set_key(toml::table& deck, const Axis& a, const std::string& v) {
+  toml::table* t = &deck;
+  for (std::size_t k = 0; k + 1 < a.path.size(); ++k) {
+    toml::node* n = t->get(a.path[k]);
+    if (!n) {
+      t->insert_or_assign(a.path[k], toml::table{});
+      n = t->get(a.path[k]);
+    }
+    if (!n->is_table()) throw UsageError("--set " + a.key + ": " + a.path[k] + " is a value in the deck, not a section");
+    t = n->as_table();
+  }
+  assign(*t, a.path.back(), v);
+}
+
+/// A directory-name-safe form of a value (path separators and the like replaced).
+std::string safe(const std::string& v) {
+  std::string s;
+  for (char c : v) s += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') ? c : '_';
+  return s;
+}
+
+/// Whether a run directory holds a finished run: summary.json exists (Monte Carlo writes it only
+/// at the end) and, where it has one, its status is "done".
+bool finished(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  if (!in) return false;
+  try {
+    const auto j = nlohmann::json::parse(in);
+    return !j.contains("status") || j["status"] == "done";
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+int sweep_main(int argc, char* argv[]) {
+  std::vector<std::string> sets, pass;  // pass: --kokkos-* flags for every run
+  std::vector<char*> app_args{argv[0]};
+  for (int i = 2; i < argc; ++i) {  // argv[1] is "sweep"
+    if (std::string_view(argv[i]).starts_with("--kokkos-")) pass.emplace_back(argv[i]);
+    else app_args.push_back(argv[i]);
+  }
+  CLI::App cli{"nacre sweep: one run of a deck per combination of --set values (docs/fracture.md \"Sweeps\")"};
+  std::string deck_path, out;
+  bool quiet = false;
+  cli.add_option("deck", deck_path, "TOML input deck")->required()->check(CLI::ExistingFile);
+  cli.add_option("--set", sets, "SECTION.KEY=V1,V2,... (repeatable: every combination is run)")->required();
+  cli.add_option("-o,--output", out, "sweep directory (default: the deck's [output] directory + \"_sweep\")");
+  cli.add_flag("-q,--quiet", quiet, "no log lines from the runs");
+  std::vector<Axis> axes;
+  try {
+    cli.parse(static_cast<int>(app_args.size()), app_args.data());
+    for (const auto& s : sets) axes.push_back(parse_set(s));
+  } catch (const CLI::ParseError& e) {
+    const int rc = cli.exit(e);
+    return rc == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 2;
+  }
+  toml::table base;
+  try {
+    base = toml::parse_file(deck_path);
+  } catch (const toml::parse_error& e) {
+    std::cerr << "nacre: error: " << deck_path << ":" << e.source().begin.line << ": " << e.description() << "\n";
+    return 2;
+  }
+  if (out.empty()) {
+    const auto* dir = base.at_path("output.directory").as_string();
+    out = (dir ? dir->get() : std::string("out/" + fs::path(deck_path).stem().string())) + "_sweep";
+  }
+  // the combinations, the first axis slowest
+  std::size_t total = 1;
+  for (const auto& a : axes) total *= a.values.size();
+  struct Run {
+    std::vector<std::string> values;
+    std::string name;
+  };
+  std::vector<Run> runs;
+  for (std::size_t c = 0; c < total; ++c) {
+    Run r;
+    std::size_t rest = c;
+    std::vector<std::size_t> idx(axes.size());
+    for (std::size_t k = axes.size(); k-- > 0;) idx[k] = rest % axes[k].values.size(), rest /= axes[k].values.size();
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      // a leaf name shared by two axes (mortar.x2, mortar.head.x2) is written in full
+      bool shared = false;
+      for (std::size_t o = 0; o < axes.size(); ++o) shared |= o != k && axes[o].leaf == axes[k].leaf;
+      r.values.push_back(axes[k].values[idx[k]]);
+      r.name += (k ? "_" : "") + (shared ? axes[k].key : axes[k].leaf) + "=" + safe(axes[k].values[idx[k]]);
+    }
+    runs.push_back(r);
+  }
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) {
+    std::cerr << "nacre: error: cannot create " << out << ": " << ec.message() << "\n";
+    return 1;
+  }
+  const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
+  const std::string exe = ec || self.empty() ? std::string(argv[0]) : self;
+  if (!quiet)
+    std::cout << "nacre: sweep of " << deck_path << ": " << runs.size() << " runs into " << out << "/\n";
+  nlohmann::ordered_json summary;
+  summary["deck"] = deck_path;
+  for (const auto& a : axes) summary["keys"].push_back(a.key);
+  int failed = 0;
+  // Ctrl-C reaches the run in progress too (it checkpoints and exits 130); a SIGTERM sent to the
+  // sweep alone lets the run in progress finish; either way no further run starts
+  SignalGuard signals;
+  try {
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto& r = runs[i];
+    const fs::path dir = fs::path(out) / r.name, deck = fs::path(out) / (r.name + ".toml");
+    toml::table t = base;
+    try {
+      for (std::size_t k = 0; k < axes.size(); ++k) set_key(t, axes[k], r.values[k]);
+    } catch (const UsageError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+      return 2;
+    }
+    std::ostringstream text;
+    text << "# nacre sweep: " << deck_path << " with " << r.name << "\n" << t << "\n";
+    io::write_file_atomic(deck, text.str());
+    int rc = 0;
+    std::string how;
+    if (finished(dir)) {
+      how = "kept (finished before)";
+    } else {
+      std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
+      if (fs::exists(dir / "checkpoint.h5")) {
+        cmd.insert(cmd.end(), {"--restart", (dir / "checkpoint.h5").string()});
+        how = "restarted from its checkpoint";
+      } else {
+        cmd.emplace_back("--overwrite");
+        how = "run";
+      }
+      if (quiet) cmd.emplace_back("-q");
+      cmd.insert(cmd.end(), pass.begin(), pass.end());
+      if (!quiet) std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << r.name << "\n" << std::flush;
+      rc = spawn_and_wait(cmd);
+      if (rc == 130 || rc == 143 || pending_signal() != 0) {
+        std::cerr << "nacre: sweep stopped by a signal during " << r.name << "; run the same command again to resume\n";
+        return rc == 130 || rc == 143 ? rc : 128 + pending_signal();
+      }
+    }
+    if (rc != 0) ++failed;
+    nlohmann::ordered_json e;
+    e["name"] = r.name;
+    e["directory"] = dir.string();
+    for (std::size_t k = 0; k < axes.size(); ++k) e["values"][axes[k].key] = r.values[k];
+    e["exit"] = rc;
+    e["how"] = how;
+    summary["runs"].push_back(e);
+    if (!quiet) std::cout << "nacre: sweep " << r.name << ": " << how << (rc ? ", exit " + std::to_string(rc) : std::string()) << "\n";
+  }
+  io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
+  } catch (const io::WriteError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 1;
+  }
+  if (!run_charts("nacre_sweep_plot.py", out, quiet ? nullptr : &std::cout)) return 1;
+  if (failed) {
+    std::cerr << "nacre: sweep: " << failed << " of " << runs.size() << " runs failed (sweep.json names them)\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace nacre::app
