@@ -9,8 +9,6 @@ are then rasterised directly (each pixel takes the stress of the triangle holdin
 gaps and an open crack stay white) and shown as an image with the same colour scale, the
 ruptured interfaces drawn on top.
 Usage: nacre_dyn_plot.py OUTPUT_DIR [DUMP.h5] [--magnify M] [--raster]"""
-import csv
-import glob
 import os
 import sys
 
@@ -21,14 +19,14 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from nacre_results import Dump, Run, read_h5  # noqa: E402  (the one reader of run directories)
 from nacre_plot import r_curve, save_png  # noqa: E402  (one atomic PNG writer, one R-curve for both scripts)
 
 RASTER_TRIANGLES = 200_000  # ~50k bricks: past this, polygons are sub-pixel at dpi 130
 
 
 def series(out):
-    rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]} if rows else None
+    return Run(out).table()
 
 
 def energy_force(out, s):
@@ -85,18 +83,17 @@ def raster_image(pts, conn, val, nx, ny, x0, x1, y0, y1):
 
 
 def crack(out, dump, magnify=None, target=None, raster=None):
-    import h5py
-    with h5py.File(os.path.join(out, "mesh.h5"), "r") as m, h5py.File(dump, "r") as d:
-        conn = m["/triangles/connectivity"][:]
-        ref = m["/nodes/reference"][:]
-        tri_brick = m["/triangles/brick"][:]
-        iref = m["/interfaces/reference_points"][:].reshape(-1, 2, 2) if "/interfaces/reference_points" in m else None
-        u = d["/nodes/displacement"][:, :2]
-        syy = d["/bricks/syy"][:]
-        ipts = d["/interfaces/points"][:].reshape(-1, 2, 2) if "/interfaces/points" in d else None
-        state = d["/interfaces/state"][:] if "/interfaces/state" in d else None
-        on_crack = d["/interfaces/crack"][:] if "/interfaces/crack" in d else None
-        time, disp = float(d.attrs["time"]), float(d.attrs["displacement"])
+    m, d = Run(out).mesh(), Dump(*read_h5(dump))
+    conn = m["/triangles/connectivity"]
+    ref = m["/nodes/reference"]
+    tri_brick = m["/triangles/brick"]
+    iref = m["/interfaces/reference_points"].reshape(-1, 2, 2) if "/interfaces/reference_points" in m else None
+    u = d["/nodes/displacement"][:, :2]
+    syy = d["/bricks/syy"]
+    ipts = d["/interfaces/points"].reshape(-1, 2, 2) if "/interfaces/points" in d else None
+    state = d.get("/interfaces/state")
+    on_crack = d.get("/interfaces/crack")
+    time, disp = float(d.attrs["time"]), float(d.attrs["displacement"])
     # displacements are small next to a brick: magnify them so the crack opening shows
     e1, e2 = ref[conn[:, 1]] - ref[conn[:, 0]], ref[conn[:, 2]] - ref[conn[:, 0]]
     size = np.sqrt(np.median(np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])))
@@ -159,9 +156,8 @@ def main(argv):
     s = series(out)
     if s is not None and len(s["time"]) > 1:
         energy_force(out, s)
-    r_curve(out, list(csv.DictReader(open(os.path.join(out, "series.csv")))))
-    dumps = sorted(glob.glob(os.path.join(out, "dump_*.h5")))
-    dump = args[1] if len(args) > 1 else (dumps[-1] if dumps else None)
+    r_curve(out, Run(out).rows())
+    dump = args[1] if len(args) > 1 else Run(out).dump_path()
     if dump and os.path.exists(os.path.join(out, "mesh.h5")):
         crack(out, dump, mag, raster=raster)
 

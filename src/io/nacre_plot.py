@@ -5,7 +5,6 @@ ruptured interfaces in red, the crack from the notch dark red) and the R-curve (
 r_curve.png; docs/fracture.md). Usage: nacre_plot.py OUTPUT_DIR [--quiet]"""
 import csv
 import os
-import re
 import sys
 
 import matplotlib
@@ -13,6 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from nacre_results import Run  # noqa: E402  (the one reader of run directories)
 
 
 
@@ -111,7 +113,8 @@ def draw_crack(ax, ipts, iref, on_crack):
 
 
 def main(out):
-    rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
+    run = Run(out)
+    rows = run.rows()
     r_curve(out, rows)
     D = np.array([0.0] + [float(r["displacement"]) for r in rows])
     E = np.array([0.0] + [float(r["energy"]) for r in rows])
@@ -137,25 +140,20 @@ def main(out):
     save_png(fig, os.path.join(out, "energy_force.png"), dpi=120)
     plt.close(fig)
 
-    # nacre's dumps only (dump_NNNNN.h5): a stray dump_final.h5 or dump_7.h5.bak is not one
-    dumps = sorted((int(m.group(1)), os.path.join(out, f)) for f in os.listdir(out)
-                   if (m := re.fullmatch(r"dump_(\d+)\.h5", f)))
-    dumps = [p for _, p in dumps]
-    mesh = os.path.join(out, "mesh.h5")
-    if not dumps or not os.path.exists(mesh):
+    # the last of nacre's dumps (dump_NNNNN.h5: a stray dump_final.h5 or dump_7.h5.bak is not one)
+    m, d = run.mesh(), run.dump()
+    if d is None or m is None:
         return
-    import h5py
-    with h5py.File(mesh, "r") as m, h5py.File(dumps[-1], "r") as d:
-        topo = m["/bricks/topology"][:]
-        pts = d["/bricks/points"][:]
-        energy = d["/bricks/energy"][:]
-        area = m["/bricks/area"][:]
-        ipts = d["/interfaces/points"][:].reshape(-1, 2, 2)
-        state = d["/interfaces/state"][:]
-        on_crack = d["/interfaces/crack"][:] if "/interfaces/crack" in d else np.zeros_like(state)
-        disp = d.attrs["displacement"]
-        ref = m["/bricks/reference_points"][:]
-        iref = m["/interfaces/reference_points"][:].reshape(-1, 2, 2)
+    topo = m["/bricks/topology"]
+    pts = d["/bricks/points"]
+    energy = d["/bricks/energy"]
+    area = m["/bricks/area"]
+    ipts = d["/interfaces/points"].reshape(-1, 2, 2)
+    state = d["/interfaces/state"]
+    on_crack = d.get("/interfaces/crack", np.zeros_like(state))
+    disp = d.attrs["displacement"]
+    ref = m["/bricks/reference_points"]
+    iref = m["/interfaces/reference_points"].reshape(-1, 2, 2)
     # displacements are tiny next to a brick: magnify them so the crack opening shows
     u = pts - ref
     umax = np.abs(u).max()

@@ -27,6 +27,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from nacre_plot import r_curve_points, save_png, toughening_ratio  # noqa: E402
+from nacre_results import Run  # noqa: E402
 
 
 def number(v):
@@ -48,9 +49,8 @@ def read_run(run):
     r = dict(name=run["name"], exit=run["exit"], **{k: v for k, v in run["values"].items()})
     if not os.path.exists(os.path.join(d, "summary.json")):
         return r, None
-    s = json.load(open(os.path.join(d, "summary.json")))
-    table = os.path.join(d, "steps.csv" if s.get("solver") == "mc" else "series.csv")
-    rows = list(csv.DictReader(open(table))) if os.path.exists(table) else []
+    run = Run(d)
+    s, rows = run.summary, run.rows()
     c = s.get("crack", {})
     r.update(solver=s.get("solver"), status=s.get("status", "done"), bricks=s.get("bricks"))
     if rows:
