@@ -167,6 +167,36 @@ TEST_CASE("crack: a rotated wall's notch tip is the end of the last brick it spl
   CHECK(r.tip_x == Approx(21.0).margin(1e-6));
 }
 
+TEST_CASE("crack: the notch tip of a rotated wall whose split corner was dropped as a sliver", "[fracture]") {
+  // the README deck at 30 degrees: the last brick the notch splits loses its piece above the
+  // line (below min_piece_fraction), so the notch's free face ends at x = 24.12, past
+  // notch_length; the joints that meet the line there are the crack's roots
+  deck::Geometry g;
+  g.width = 80, g.height = 40, g.notch_length = 24, g.notch_y = 20, g.angle_deg = 30;
+  g.brick_width = 3.5, g.brick_height = 1.0;
+  const auto w = test::wall_of(g);
+  const fracture::CrackTracker t(w.s, w.f, g);
+  // the joints touching the notch line furthest along it
+  double xmax = -1;
+  std::vector<int> touching;
+  for (std::size_t i = 0; i < w.f.size(); ++i) {
+    const auto a = static_cast<std::size_t>(w.f.a[i]);
+    for (auto [x, y] : {std::pair{w.s.cx[a] + w.f.ra0x[i], w.s.cy[a] + w.f.ra0y[i]},
+                        std::pair{w.s.cx[a] + w.f.ra1x[i], w.s.cy[a] + w.f.ra1y[i]}})
+      if (std::abs(y - 20.0) < 1e-9 && x <= 30.0) {
+        if (x > xmax + 1e-9) xmax = x, touching.clear();
+        if (std::abs(x - xmax) <= 1e-9) touching.push_back(static_cast<int>(i));
+      }
+  }
+  REQUIRE(!touching.empty());
+  CHECK(t.notch_tip_x() == Approx(xmax).margin(1e-9));
+  std::vector<int> st(w.f.size(), 0);
+  for (int i : touching) st[i] = 2;
+  const auto r = t.measure(st);
+  CHECK(r.interfaces == static_cast<int>(touching.size()));
+  CHECK(r.extension >= 0.0);
+}
+
 TEST_CASE("Rayleigh speed: the Poisson solid's root, plane stress", "[fracture]") {
   // plane stress with nu = 1/3 is plane strain with nu' = nu / (1 + nu) = 1/4, whose Rayleigh
   // root is c_R / c_s = sqrt(2 - 2 / sqrt(3))

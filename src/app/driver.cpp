@@ -4,6 +4,8 @@
 #include <nacre/core/format.hpp>
 #include <nacre/io/checkpoint.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +20,20 @@ extern char** environ;
 #endif
 
 namespace nacre::app {
+
+int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::function<void()>& then) {
+  try {
+    cli.parse(static_cast<int>(args.size()), args.data());
+    then();
+  } catch (const CLI::ParseError& e) {
+    const int rc = cli.exit(e);
+    return rc == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    std::cerr << "nacre: error: " << e.what() << "\n";
+    return 2;
+  }
+  return -1;
+}
 
 int spawn_and_wait(const std::vector<std::string>& argv) {
   std::vector<char*> args;

@@ -5,10 +5,15 @@
 #include <nacre/deck/deck.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace CLI {
+class App;
+}
 
 namespace nacre::app {
 
@@ -16,6 +21,11 @@ namespace nacre::app {
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// \brief Parse `args` (argv[0] first) into `cli`, then run `then` (further checks that throw
+/// UsageError). Returns -1 when both passed, else the exit code with its message printed: 0 for
+/// --help, 2 for a bad command line. Both `nacre DECK` and `nacre sweep` parse through it.
+int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::function<void()>& then);
 
 /// \brief spawn_and_wait's result when argv[0] could not be started (not found on PATH).
 inline constexpr int kNotStarted = -1;

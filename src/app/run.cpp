@@ -303,16 +303,7 @@ int main(int argc, char* argv[]) {
              "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
              "checkpoint, 3 dynamic run stopped unstable, 4 a load step not converged (residual above the tolerance "
              "after max_cycles; completed steps and their checkpoint kept), 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
-  try {
-    cli.parse(static_cast<int>(app_args.size()), app_args.data());
-    check_kokkos_flags(kokkos_args);
-  } catch (const CLI::ParseError& e) {
-    const int rc = cli.exit(e);
-    return rc == 0 ? 0 : 2;
-  } catch (const UsageError& e) {
-    std::cerr << "nacre: error: " << e.what() << "\n";
-    return 2;
-  }
+  if (const int rc = parse_command_line(cli, app_args, [&] { check_kokkos_flags(kokkos_args); }); rc >= 0) return rc;
   if (opt.extend && opt.restart.empty()) {
     std::cerr << "nacre: error: --extend needs --restart\n";
     return 2;

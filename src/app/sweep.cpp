@@ -125,7 +125,8 @@ int sweep_main(int argc, char* argv[]) {
     if (std::string_view(argv[i]).starts_with("--kokkos-")) pass.emplace_back(argv[i]);
     else app_args.push_back(argv[i]);
   }
-  CLI::App cli{"nacre sweep: one run of a deck per combination of --set values (docs/fracture.md \"Sweeps\")"};
+  CLI::App cli{"nacre sweep: one run of a deck per combination of --set values (docs/fracture.md \"Sweeps\")",
+               "nacre sweep"};
   std::string deck_path, out;
   bool quiet = false;
   cli.add_option("deck", deck_path, "TOML input deck")->required()->check(CLI::ExistingFile);
@@ -133,16 +134,11 @@ int sweep_main(int argc, char* argv[]) {
   cli.add_option("-o,--output", out, "sweep directory (default: the deck's [output] directory + \"_sweep\")");
   cli.add_flag("-q,--quiet", quiet, "no log lines from the runs");
   std::vector<Axis> axes;
-  try {
-    cli.parse(static_cast<int>(app_args.size()), app_args.data());
-    for (const auto& s : sets) axes.push_back(parse_set(s));
-  } catch (const CLI::ParseError& e) {
-    const int rc = cli.exit(e);
-    return rc == 0 ? 0 : 2;
-  } catch (const UsageError& e) {
-    std::cerr << "nacre: error: " << e.what() << "\n";
-    return 2;
-  }
+  if (const int rc = parse_command_line(cli, app_args, [&] {
+        for (const auto& s : sets) axes.push_back(parse_set(s));
+      });
+      rc >= 0)
+    return rc;
   toml::table base;
   try {
     base = toml::parse_file(deck_path);

@@ -59,19 +59,35 @@ CrackTracker::CrackTracker(const geometry::Specimen& s, const geometry::Interfac
       adj_iface_[fill[end0_[i]]++] = static_cast<int>(i), adj_iface_[fill[end1_[i]]++] = static_cast<int>(i);
   }
 
-  // the notch tip: notch_length, or the right end of the last brick the notch splits (a rotated
-  // wall: pieces of one parent brick, specimen.cpp)
+  // the notch tip: the right end of the notch's free faces, the parts of brick edges along
+  // y = notch_y that no interface covers (the bed joint left of notch_length on an unrotated
+  // wall; on a rotated one the faces of the bricks the notch splits, specimen.cpp, reaching past
+  // notch_length where the last split brick does)
   notch_tip_x_ = g.notch_length;
   if (g.notch_length > 0) {
-    std::unordered_map<std::int64_t, int> pieces;
-    for (auto p : s.parent) ++pieces[p];
-    double split_tip = -1;
-    for (std::size_t b = 0; b < s.size(); ++b) {
-      if (pieces[s.parent[b]] < 2) continue;
-      for (int v = s.poly_offset[b]; v < s.poly_offset[b + 1]; ++v)
-        if (std::abs(s.vy[v] - notch_y_) <= tol) split_tip = std::max(split_tip, s.vx[v]);
-    }
-    if (split_tip >= 0) notch_tip_x_ = split_tip;
+    auto on_line = [&](double y) { return std::abs(y - notch_y_) <= tol; };
+    std::vector<std::pair<double, double>> covered;  // interfaces along the line, as x intervals
+    for (std::size_t i = 0; i < ni; ++i)
+      if (on_line(node_y_[end0_[i]]) && on_line(node_y_[end1_[i]]))
+        covered.emplace_back(std::min(node_x_[end0_[i]], node_x_[end1_[i]]), std::max(node_x_[end0_[i]], node_x_[end1_[i]]));
+    std::sort(covered.begin(), covered.end());
+    double tip = -1;
+    for (std::size_t b = 0; b < s.size(); ++b)
+      for (int v = s.poly_offset[b]; v < s.poly_offset[b + 1]; ++v) {
+        const int w = v + 1 == s.poly_offset[b + 1] ? s.poly_offset[b] : v + 1;
+        if (!on_line(s.vy[v]) || !on_line(s.vy[w])) continue;
+        // the uncovered parts of the edge [lo, hi]: its free face
+        double lo = std::min(s.vx[v], s.vx[w]);
+        const double hi = std::max(s.vx[v], s.vx[w]);
+        for (const auto& [c0, c1] : covered) {
+          if (c1 <= lo + tol) continue;
+          if (c0 >= hi - tol) break;
+          if (c0 > lo + tol) tip = std::max(tip, c0);  // a free part [lo, c0]
+          lo = std::max(lo, c1);
+        }
+        if (hi > lo + tol) tip = std::max(tip, hi);
+      }
+    if (tip >= 0) notch_tip_x_ = tip;
     for (std::size_t n = 0; n < nn; ++n)
       if (std::abs(node_y_[n] - notch_y_) <= tol && node_x_[n] <= notch_tip_x_ + tol) roots_.push_back(static_cast<int>(n));
   }
