@@ -88,7 +88,7 @@ def r_curve(out, rows):
     ax.set_xlabel("crack extension (along the ligament)")
     ax.set_ylabel("G_R (energy per unit crack area)")
     ax.set_ylim(bottom=0)
-    ax.set_title(f"R-curve: toughening ratio {ratio:.3g} (mean G_R over the second half / k x1 x2)")
+    ax.set_title(f"R-curve: toughening ratio {ratio:.3g}\n(mean G_R over the second half of the extension / k x1 x2)", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()
     save_png(fig, os.path.join(out, "r_curve.png"), dpi=120)

@@ -100,11 +100,13 @@ def main(argv):
 
     fig, ax = plt.subplots(2, 2, figsize=(12, 8.5))
     a = ax[0][0]
+    top = 0.0  # the runs' own range: the quadratics grow past it
     for r, c in zip(rows, curves):
         if c is None:
             continue
         if "E" in c:
             (line,) = a.plot(c["D"], c["E"], "o-", ms=2.5, label=r["name"])
+            top = max(top, float(np.max(c["E"])))
             a.plot(c["D"], c["c"] * c["D"] ** 2, "--", lw=0.8, color=line.get_color())
             if math.isfinite(c["Dc"]):
                 a.axvline(c["Dc"], color=line.get_color(), lw=0.6, ls=":")
@@ -112,6 +114,8 @@ def main(argv):
         else:
             a.plot(c["D"], c["F"], "-", label=r["name"])
             a.set_ylabel("reaction force")
+    if top > 0:
+        a.set_ylim(0, 1.3 * top)
     a.set_xlabel("applied displacement D")
     a.legend(fontsize=7)
     a.set_title("energy against D per run (Fig. 2.8b)")

@@ -8,9 +8,10 @@
 ///
 /// Definitions (docs/fracture.md):
 /// - The mortar network: nodes are interface end points (merged within 1e-6 of a brick height),
-///   edges are interfaces. The notch is the slit y = notch_y from x = 0 to its tip (notch_length,
-///   or the right end of the last brick the notch splits when the wall is rotated); network nodes
-///   on it are the crack's roots.
+///   edges are interfaces. The notch is the slit y = notch_y from x = 0 to its tip, the right end
+///   of its free faces (brick edges on the line that no interface covers: notch_length on an
+///   unrotated wall, the end of the last split brick on a rotated one); network nodes on it are
+///   the crack's roots.
 /// - The crack: the ruptured interfaces reachable from a root through ruptured interfaces.
 /// - Its tip: the crack node furthest along the ligament (largest x; the notch runs along +x).
 ///   Extension = tip x - notch tip x (the projected crack length, >= 0). Path length = the
