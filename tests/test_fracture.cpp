@@ -44,6 +44,14 @@ struct Fixture {
   }
 };
 
+// a wall of bricks 3.5 x 1 at 30 degrees, notched from the left along y = notch_y
+deck::Geometry rotated(double width, double height, double notch_length, double notch_y) {
+  deck::Geometry g;
+  g.width = width, g.height = height, g.notch_length = notch_length, g.notch_y = notch_y, g.angle_deg = 30;
+  g.brick_width = 3.5, g.brick_height = 1.0;
+  return g;
+}
+
 }  // namespace
 
 TEST_CASE("crack: an intact specimen has no crack; its tip is the notch tip", "[fracture]") {
@@ -154,9 +162,7 @@ TEST_CASE("crack: the process zone is the softening joints connected to the crac
 }
 
 TEST_CASE("crack: a rotated wall's notch tip is the end of the last brick it splits", "[fracture]") {
-  deck::Geometry g;
-  g.width = 21, g.height = 8, g.notch_length = 8, g.notch_y = 4, g.angle_deg = 30;
-  g.brick_width = 3.5, g.brick_height = 1.0;
+  const deck::Geometry g = rotated(21, 8, 8, 4);
   const auto w = test::wall_of(g);
   const fracture::CrackTracker t(w.s, w.f, g);
   CHECK(t.notch_tip_x() >= 8.0 - 3.5);
@@ -171,9 +177,7 @@ TEST_CASE("crack: the notch tip of a rotated wall whose split corner was dropped
   // the README deck at 30 degrees: the last brick the notch splits loses its piece above the
   // line (below min_piece_fraction), so the notch's free face ends at x = 24.12, past
   // notch_length; the joints that meet the line there are the crack's roots
-  deck::Geometry g;
-  g.width = 80, g.height = 40, g.notch_length = 24, g.notch_y = 20, g.angle_deg = 30;
-  g.brick_width = 3.5, g.brick_height = 1.0;
+  const deck::Geometry g = rotated(80, 40, 24, 20);
   const auto w = test::wall_of(g);
   const fracture::CrackTracker t(w.s, w.f, g);
   // the joints touching the notch line furthest along it
