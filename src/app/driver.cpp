@@ -3,6 +3,7 @@
 
 #include <nacre/core/format.hpp>
 #include <nacre/io/checkpoint.hpp>
+#include <nacre/io/names.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -71,7 +72,7 @@ std::string unfinished(const io::Checkpoint& c) {
 
 void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool overwrite) {
   if (overwrite) return;
-  const std::filesystem::path dir(d.output.directory), cpath = dir / "checkpoint.h5";
+  const std::filesystem::path dir(d.output.directory), cpath = dir / io::names::checkpoint;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(cpath, ec)) return;
   if (!restart.empty()) {

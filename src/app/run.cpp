@@ -157,7 +157,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   if (log && writer.stale_temporaries_removed() > 0)
     *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
          << writer.directory().string() << "/\n";
-  const auto checkpoint_path = writer.directory() / "checkpoint.h5";
+  const auto checkpoint_path = writer.checkpoint_path();
   auto named_checkpoint = [&] {
     return mc::to_named(solver.checkpoint(), print, text, d.load.final_displacement);
   };

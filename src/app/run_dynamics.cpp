@@ -306,7 +306,7 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
   // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
   io::RunWriter::Options wo;
   wo.directory = d.output.directory, wo.hdf5 = d.output.hdf5, wo.csv_header = series_header();
-  wo.csv_name = "series.csv", wo.dump_digits = 9, wo.elements = fields.mesh();
+  wo.csv_name = io::names::dyn_table, wo.dump_digits = 9, wo.elements = fields.mesh();
   io::RunWriter writer(wo, specimen, interfaces, resume);
   if (log && writer.stale_temporaries_removed() > 0)
     *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
@@ -508,9 +508,9 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
       status = "interrupted";
       summary();
       std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
-                << " s); checkpoint written to " << (writer.directory() / "checkpoint.h5").string()
+                << " s); checkpoint written to " << writer.checkpoint_path().string()
                 << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string()
-                << " --restart " << (writer.directory() / "checkpoint.h5").string() << "\n";
+                << " --restart " << writer.checkpoint_path().string() << "\n";
       return 128 + sig;
     }
     if (progress && (elapsed() - last_progress > 0.25 || finished())) {

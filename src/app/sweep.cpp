@@ -8,6 +8,7 @@
 
 #include <nacre/app/signals.hpp>
 #include <nacre/io/atomic_file.hpp>
+#include <nacre/io/names.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -106,7 +107,7 @@ std::string safe(const std::string& v) {
 /// Whether a run directory holds a finished run: summary.json exists (Monte Carlo writes it only
 /// at the end) and, where it has one, its status is "done".
 bool finished(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
+  std::ifstream in(dir / io::names::summary);
   if (!in) return false;
   try {
     const auto j = nlohmann::json::parse(in);
@@ -209,8 +210,8 @@ int sweep_main(int argc, char* argv[]) {
       how = "kept (finished before)";
     } else {
       std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
-      if (fs::exists(dir / "checkpoint.h5")) {
-        cmd.insert(cmd.end(), {"--restart", (dir / "checkpoint.h5").string()});
+      if (const fs::path cp = dir / io::names::checkpoint; fs::exists(cp)) {
+        cmd.insert(cmd.end(), {"--restart", cp.string()});
         how = "restarted from its checkpoint";
       } else {
         cmd.emplace_back("--overwrite");

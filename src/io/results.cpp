@@ -20,8 +20,10 @@ std::string num(double v) { return format_real(v, 10); }
 
 /// \brief Files a run owns in its directory (a new run removes them; others are left alone).
 bool ours(const std::string& n) {
-  return dump_step(n).has_value() || n == "mesh.h5" || n == "nacre.xdmf" || n == "steps.csv" || n == "series.csv" ||
-         n == "summary.json" || n == "energy_force.png" || n == "crack.png" || n == "checkpoint.h5";
+  if (dump_step(n).has_value()) return true;
+  for (auto own : {names::mesh, names::xdmf, names::mc_table, names::dyn_table, names::summary, names::checkpoint})
+    if (n == own) return true;
+  return std::find(names::charts.begin(), names::charts.end(), n) != names::charts.end();
 }
 
 /// \brief The step of a CSV row ("12,0.3,..."), parsed strictly.
@@ -83,8 +85,8 @@ RunWriter::RunWriter(Options o, const geometry::Specimen& s, const geometry::Int
     write_file_atomic(dir / o_.csv_name, csv_);
     // the mesh is a function of the geometry alone: rewritten when missing or from a version
     // without the interfaces' connectivity
-    if (o_.hdf5 && (!std::filesystem::exists(dir / "mesh.h5") ||
-                    !H5Reader((dir / "mesh.h5").string()).has("/interfaces/connectivity")))
+    if (o_.hdf5 && (!std::filesystem::exists(dir / names::mesh) ||
+                    !H5Reader((dir / names::mesh).string()).has("/interfaces/connectivity")))
       write_mesh();
     return;
   }
@@ -119,7 +121,7 @@ void RunWriter::write_mesh() const {
   const auto& s = s_;
   const auto& f = f_;
   // Static mesh: XDMF "Mixed" topology, each polygon as [3 (polygon), n, v0 .. v(n-1)].
-  AtomicPath ap(o_.directory / "mesh.h5");
+  AtomicPath ap(o_.directory / names::mesh);
   {
     H5Writer h(ap.temp().string());
     std::vector<std::int32_t> topo;
@@ -313,9 +315,9 @@ void RunWriter::write_xdmf() const {
           "mesh.h5:/interfaces/connectivity", ip, "", "", {{Centre::interface, "Cell"}}, "kind", "Char", 1,
           "mesh.h5:/interfaces/kind", ni});
   x << "</Domain>\n</Xdmf>\n";
-  write_file_atomic(o_.directory / "nacre.xdmf", x.str());
+  write_file_atomic(o_.directory / names::xdmf, x.str());
 }
 
-void RunWriter::summary(const std::string& json) { write_file_atomic(o_.directory / "summary.json", json); }
+void RunWriter::summary(const std::string& json) { write_file_atomic(o_.directory / names::summary, json); }
 
 }  // namespace nacre::io

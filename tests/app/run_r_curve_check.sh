@@ -6,7 +6,8 @@
 #     fracture is k x1 x2 times its path length (exact: a ruptured joint holds k x1 x2 per length);
 #  3. the mean G_R over the whole extension (the R-curve's area over the extension) is k x1 x2
 #     within 5 % (what the process zone held before the crack left the notch);
-#  4. r_curve.csv's toughening column is G_R / (k x1 x2), its points the rows where the extension grew.
+#  4. r_curve.csv's toughening column is G_R / (k x1 x2), its points the rows where the extension grew;
+#  5. a new run into the directory without charts leaves no R-curve of the old run behind.
 #   run_r_curve_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -euo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -43,3 +44,11 @@ assert abs(mean / gc - 1) < 0.05, f"mean G_R {mean} vs k x1 x2 {gc}"
 print(f"R-curve: {len(pts)} points, mean G_R / (k x1 x2) = {mean / gc:.4f}; final energy of fracture "
       f"{w:.6g} = k x1 x2 x path {gc * path:.6g}")
 PY
+
+# 5. the R-curve belongs to the run that wrote it: a new run without charts removes it
+sed 's/^\[output\]/[output]\ncharts = false/' "$src/tests/app/r_curve.toml" > nocharts.toml
+"$exe" nocharts.toml --overwrite -q
+for f in r_curve.csv r_curve.png crack.png energy_force.png; do
+  [ ! -e "r_curve/$f" ] || { echo "FAIL: r_curve/$f of the previous run left behind"; exit 1; }
+done
+echo "a new run removes the previous run's charts and R-curve"

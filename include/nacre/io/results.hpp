@@ -14,6 +14,7 @@
 /// checkpoint; every file a checkpoint refers to is durable before it.
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/io/checkpoint.hpp>
+#include <nacre/io/names.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -72,7 +73,7 @@ public:
     std::filesystem::path directory;
     bool hdf5 = true;
     std::string csv_header;              ///< first line of the table, with its newline
-    std::string csv_name = "steps.csv";  ///< the table's file name
+    std::string csv_name{names::mc_table};  ///< the table's file name
     int dump_digits = 5;                 ///< dump_%0*ld.h5: enough digits that names sort by step
     std::optional<TriangleMesh> elements;  ///< deformable bricks: their triangle mesh
   };
@@ -102,7 +103,7 @@ public:
   void summary(const std::string& json);
 
   [[nodiscard]] const std::filesystem::path& directory() const { return o_.directory; }
-  [[nodiscard]] std::filesystem::path checkpoint_path() const { return o_.directory / "checkpoint.h5"; }
+  [[nodiscard]] std::filesystem::path checkpoint_path() const { return o_.directory / names::checkpoint; }
   [[nodiscard]] long last_step() const { return last_step_; }
   [[nodiscard]] long rows() const { return rows_; }
   [[nodiscard]] long last_dump_step() const { return dumps_.empty() ? -1 : dumps_.back().step; }
