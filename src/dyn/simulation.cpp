@@ -325,9 +325,9 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
     if (!bie_solve_available(p.bie_solve))
       throw std::invalid_argument(std::string("dyn: bie_solve = \"") + bie_solve_name(p.bie_solve) +
                                   "\" needs Kokkos Kernels, which this build does not have");
-    if (p.bie_solve == BieSolve::reordered && p.bie_block != 2 && p.bie_block != 4 && p.bie_block != 5 &&
-        p.bie_block != 10)
-      throw std::invalid_argument("dyn: bie_block must be 2, 4, 5 or 10 (got " + std::to_string(p.bie_block) + ")");
+    if (p.bie_solve == BieSolve::reordered && !valid_bie_block(p.bie_block))
+      throw std::invalid_argument(std::string("dyn: bie_block must be ") + kBieBlockExpected + " (got " +
+                                  std::to_string(p.bie_block) + ")");
     if (p.bie_iterations < 1) throw std::invalid_argument("dyn: bie_iterations must be >= 1");
     I.bie = build_bie_tables(I.m);
     I.n_tiles = static_cast<int>(I.bie.tile_start.extent(0));
@@ -602,7 +602,7 @@ double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->
 double Simulation::bie_residual() const {
   auto& I = *impl_;
   if (!I.is_bie() || I.step == 0) return 0.0;
-  return bie_last_residual(Exec{}, I.acc, I.m.drive, I.m.n_elem);
+  return bie_last_residual(I.space, I.acc, I.m.drive, I.m.n_elem);
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
 int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }

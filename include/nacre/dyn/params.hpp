@@ -20,6 +20,11 @@ enum class Method : std::uint8_t { ue, be, bie };
 /// elements of the type] product per element type, tiled (compute-bound). Same result to rounding.
 enum class BieSolve : std::uint8_t { row, reordered, batched, shared_gemm };
 
+/// \brief The reordered matvec's rows per block (Params::bie_block): the deck reader and the
+/// solver check it with this one rule.
+constexpr bool valid_bie_block(long nb) { return nb == 2 || nb == 4 || nb == 5 || nb == 10; }
+inline constexpr const char* kBieBlockExpected = "2, 4, 5 or 10 (rows per block of the reordered matvec)";
+
 /// \brief How the per-element terms (K p, C v, (M + h/2 C)^-1 r) of the explicit integrators and
 /// BIE's residuals are applied: per_element = one element per work item, the type's matrices read
 /// row by row (a GPU thread per element, coalesced with the element index fastest); tiled = up to

@@ -56,8 +56,8 @@ void read_dynamics(Section& top, Deck& d) {
 #endif
   {
     long nb = D.bie_block;
-    s.integer("bie_block", {}, nb, 2, 10, "2, 4, 5 or 10 (rows per block of the reordered matvec)");
-    if (nb != 2 && nb != 4 && nb != 5 && nb != 10) s.fail("bie_block", "expected 2, 4, 5 or 10 (rows per block of the reordered matvec)");
+    s.integer("bie_block", {}, nb, 2, 10, dyn::kBieBlockExpected);
+    if (!dyn::valid_bie_block(nb)) s.fail("bie_block", std::string("expected ") + dyn::kBieBlockExpected);
     D.bie_block = static_cast<int>(nb);
   }
   {
