@@ -39,7 +39,8 @@ struct Fixture {
   void bed(std::vector<int>& st, double y, double from, double to, int value = 2) const {
     for (std::size_t i = 0; i < w.f.size(); ++i) {
       const Seg s = seg(i);
-      if (std::abs(s.y0 - y) < 1e-9 && std::abs(s.y1 - y) < 1e-9 && s.x0 >= from - 1e-9 && s.x1 <= to + 1e-9) st[i] = value;
+      if (std::abs(s.y0 - y) < 1e-9 && std::abs(s.y1 - y) < 1e-9 && s.x0 >= from - 1e-9 && s.x1 <= to + 1e-9)
+        st[i] = value;
     }
   }
 };
@@ -206,9 +207,11 @@ TEST_CASE("Rayleigh speed: the Poisson solid's root, plane stress", "[fracture]"
   // root is c_R / c_s = sqrt(2 - 2 / sqrt(3))
   const double E = 21499.0, rho = 3.7e-9, nu = 1.0 / 3.0;
   const double cs = std::sqrt(E / (2 * rho * (1 + nu)));
-  CHECK(fracture::rayleigh_speed_plane_stress(E, nu, rho) / cs == Approx(std::sqrt(2 - 2 / std::sqrt(3.0))).epsilon(1e-10));
+  CHECK(fracture::rayleigh_speed_plane_stress(E, nu, rho) / cs ==
+        Approx(std::sqrt(2 - 2 / std::sqrt(3.0))).epsilon(1e-10));
   // nu = 0.35: within 0.5 % of Viktorov's approximation (0.862 + 1.14 nu') / (1 + nu')
   const double n2 = 0.35 / 1.35, cs2 = std::sqrt(E / (2 * rho * 1.35));
-  CHECK(fracture::rayleigh_speed_plane_stress(E, 0.35, rho) / cs2 == Approx((0.862 + 1.14 * n2) / (1 + n2)).epsilon(5e-3));
+  CHECK(fracture::rayleigh_speed_plane_stress(E, 0.35, rho) / cs2 ==
+        Approx((0.862 + 1.14 * n2) / (1 + n2)).epsilon(5e-3));
   CHECK_THROWS(fracture::rayleigh_speed_plane_stress(-1.0, 0.3, rho));
 }

@@ -91,7 +91,8 @@ void set_key(toml::table& deck, const Axis& a, const std::string& v) {
       t->insert_or_assign(a.path[k], toml::table{});
       n = t->get(a.path[k]);
     }
-    if (!n->is_table()) throw UsageError("--set " + a.key + ": " + a.path[k] + " is a value in the deck, not a section");
+    if (!n->is_table())
+      throw UsageError("--set " + a.key + ": " + a.path[k] + " is a value in the deck, not a section");
     t = n->as_table();
   }
   assign(*t, a.path.back(), v);
@@ -104,16 +105,19 @@ std::string safe(const std::string& v) {
   return s;
 }
 
-/// Whether a run directory holds a finished run: summary.json exists (Monte Carlo writes it only
-/// at the end) and, where it has one, its status is "done".
-bool finished(const fs::path& dir) {
+/// What a run directory holds: "done" (summary.json exists: Monte Carlo writes it only at the
+/// end; a dynamic run's status says done), "unstable" (a dynamic run that stopped at a failed
+/// check: deterministic, so running it again would stop there again), else "" (to run or restart).
+std::string outcome(const fs::path& dir) {
   std::ifstream in(dir / io::names::summary);
-  if (!in) return false;
+  if (!in) return "";
   try {
     const auto j = nlohmann::json::parse(in);
-    return !j.contains("status") || j["status"] == "done";
+    if (!j.contains("status")) return "done";
+    const auto s = j["status"].get<std::string>();
+    return s == "done" || s == "unstable" ? s : "";
   } catch (const nlohmann::json::exception&) {
-    return false;
+    return "";
   }
 }
 
@@ -123,8 +127,10 @@ int sweep_main(int argc, char* argv[]) {
   std::vector<std::string> sets, pass;  // pass: --kokkos-* flags for every run
   std::vector<char*> app_args{argv[0]};
   for (int i = 2; i < argc; ++i) {  // argv[1] is "sweep"
-    if (std::string_view(argv[i]).starts_with("--kokkos-")) pass.emplace_back(argv[i]);
-    else app_args.push_back(argv[i]);
+    if (std::string_view(argv[i]).starts_with("--kokkos-"))
+      pass.emplace_back(argv[i]);
+    else
+      app_args.push_back(argv[i]);
   }
   CLI::App cli{"nacre sweep: one run of a deck per combination of --set values (docs/fracture.md \"Sweeps\")",
                "nacre sweep"};
@@ -135,9 +141,10 @@ int sweep_main(int argc, char* argv[]) {
   cli.add_option("-o,--output", out, "sweep directory (default: the deck's [output] directory + \"_sweep\")");
   cli.add_flag("-q,--quiet", quiet, "no log lines from the runs");
   std::vector<Axis> axes;
-  if (const int rc = parse_command_line(cli, app_args, [&] {
-        for (const auto& s : sets) axes.push_back(parse_set(s));
-      });
+  if (const int rc = parse_command_line(cli, app_args,
+                                        [&] {
+                                          for (const auto& s : sets) axes.push_back(parse_set(s));
+                                        });
       rc >= 0)
     return rc;
   toml::table base;
@@ -181,8 +188,7 @@ int sweep_main(int argc, char* argv[]) {
   }
   const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
   const std::string exe = ec || self.empty() ? std::string(argv[0]) : self;
-  if (!quiet)
-    std::cout << "nacre: sweep of " << deck_path << ": " << runs.size() << " runs into " << out << "/\n";
+  if (!quiet) std::cout << "nacre: sweep of " << deck_path << ": " << runs.size() << " runs into " << out << "/\n";
   nlohmann::ordered_json summary;
   summary["deck"] = deck_path;
   for (const auto& a : axes) summary["keys"].push_back(a.key);
@@ -191,52 +197,59 @@ int sweep_main(int argc, char* argv[]) {
   // sweep alone lets the run in progress finish; either way no further run starts
   SignalGuard signals;
   try {
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    const auto& r = runs[i];
-    const fs::path dir = fs::path(out) / r.name, deck = fs::path(out) / (r.name + ".toml");
-    toml::table t = base;
-    try {
-      for (std::size_t k = 0; k < axes.size(); ++k) set_key(t, axes[k], r.values[k]);
-    } catch (const UsageError& e) {
-      std::cerr << "nacre: error: " << e.what() << "\n";
-      return 2;
-    }
-    std::ostringstream text;
-    text << "# nacre sweep: " << deck_path << " with " << r.name << "\n" << t << "\n";
-    io::write_file_atomic(deck, text.str());
-    int rc = 0;
-    std::string how;
-    if (finished(dir)) {
-      how = "kept (finished before)";
-    } else {
-      std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
-      if (const fs::path cp = dir / io::names::checkpoint; fs::exists(cp)) {
-        cmd.insert(cmd.end(), {"--restart", cp.string()});
-        how = "restarted from its checkpoint";
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& r = runs[i];
+      const fs::path dir = fs::path(out) / r.name, deck = fs::path(out) / (r.name + ".toml");
+      toml::table t = base;
+      try {
+        for (std::size_t k = 0; k < axes.size(); ++k) set_key(t, axes[k], r.values[k]);
+      } catch (const UsageError& e) {
+        std::cerr << "nacre: error: " << e.what() << "\n";
+        return 2;
+      }
+      std::ostringstream text;
+      text << "# nacre sweep: " << deck_path << " with " << r.name << "\n" << t << "\n";
+      io::write_file_atomic(deck, text.str());
+      int rc = 0;
+      std::string how;
+      if (const std::string o = outcome(dir); o == "done") {
+        how = "kept (finished before)";
+      } else if (o == "unstable") {
+        how = "kept (stopped unstable before: exit 3)";
+        rc = 3;
       } else {
-        cmd.emplace_back("--overwrite");
-        how = "run";
+        std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
+        if (const fs::path cp = dir / io::names::checkpoint; fs::exists(cp)) {
+          cmd.insert(cmd.end(), {"--restart", cp.string()});
+          how = "restarted from its checkpoint";
+        } else {
+          cmd.emplace_back("--overwrite");
+          how = "run";
+        }
+        if (quiet) cmd.emplace_back("-q");
+        cmd.insert(cmd.end(), pass.begin(), pass.end());
+        if (!quiet)
+          std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << r.name << "\n" << std::flush;
+        rc = spawn_and_wait(cmd);
+        if (rc == 130 || rc == 143 || pending_signal() != 0) {
+          std::cerr << "nacre: sweep stopped by a signal during " << r.name
+                    << "; run the same command again to resume\n";
+          return rc == 130 || rc == 143 ? rc : 128 + pending_signal();
+        }
       }
-      if (quiet) cmd.emplace_back("-q");
-      cmd.insert(cmd.end(), pass.begin(), pass.end());
-      if (!quiet) std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << r.name << "\n" << std::flush;
-      rc = spawn_and_wait(cmd);
-      if (rc == 130 || rc == 143 || pending_signal() != 0) {
-        std::cerr << "nacre: sweep stopped by a signal during " << r.name << "; run the same command again to resume\n";
-        return rc == 130 || rc == 143 ? rc : 128 + pending_signal();
-      }
+      if (rc != 0) ++failed;
+      nlohmann::ordered_json e;
+      e["name"] = r.name;
+      e["directory"] = dir.string();
+      for (std::size_t k = 0; k < axes.size(); ++k) e["values"][axes[k].key] = r.values[k];
+      e["exit"] = rc;
+      e["how"] = how;
+      summary["runs"].push_back(e);
+      if (!quiet)
+        std::cout << "nacre: sweep " << r.name << ": " << how << (rc ? ", exit " + std::to_string(rc) : std::string())
+                  << "\n";
     }
-    if (rc != 0) ++failed;
-    nlohmann::ordered_json e;
-    e["name"] = r.name;
-    e["directory"] = dir.string();
-    for (std::size_t k = 0; k < axes.size(); ++k) e["values"][axes[k].key] = r.values[k];
-    e["exit"] = rc;
-    e["how"] = how;
-    summary["runs"].push_back(e);
-    if (!quiet) std::cout << "nacre: sweep " << r.name << ": " << how << (rc ? ", exit " + std::to_string(rc) : std::string()) << "\n";
-  }
-  io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
+    io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
   } catch (const io::WriteError& e) {
     std::cerr << "nacre: error: " << e.what() << "\n";
     return 1;

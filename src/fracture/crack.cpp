@@ -69,7 +69,8 @@ CrackTracker::CrackTracker(const geometry::Specimen& s, const geometry::Interfac
     std::vector<std::pair<double, double>> covered;  // interfaces along the line, as x intervals
     for (std::size_t i = 0; i < ni; ++i)
       if (on_line(node_y_[end0_[i]]) && on_line(node_y_[end1_[i]]))
-        covered.emplace_back(std::min(node_x_[end0_[i]], node_x_[end1_[i]]), std::max(node_x_[end0_[i]], node_x_[end1_[i]]));
+        covered.emplace_back(std::min(node_x_[end0_[i]], node_x_[end1_[i]]),
+                             std::max(node_x_[end0_[i]], node_x_[end1_[i]]));
     std::sort(covered.begin(), covered.end());
     double tip = -1;
     for (std::size_t b = 0; b < s.size(); ++b)
@@ -89,7 +90,8 @@ CrackTracker::CrackTracker(const geometry::Specimen& s, const geometry::Interfac
       }
     if (tip >= 0) notch_tip_x_ = tip;
     for (std::size_t n = 0; n < nn; ++n)
-      if (std::abs(node_y_[n] - notch_y_) <= tol && node_x_[n] <= notch_tip_x_ + tol) roots_.push_back(static_cast<int>(n));
+      if (std::abs(node_y_[n] - notch_y_) <= tol && node_x_[n] <= notch_tip_x_ + tol)
+        roots_.push_back(static_cast<int>(n));
   }
 }
 
@@ -199,7 +201,8 @@ std::string csv_columns(const CrackReading& c, int digits) {
   auto num = [digits](double v) { return format_real(v, digits); };
   return std::to_string(c.interfaces) + "," + std::to_string(c.bed) + "," + std::to_string(c.head) + "," +
          num(c.tip_x) + "," + num(c.tip_y) + "," + num(c.extension) + "," + num(c.path_length) + "," +
-         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent) + "," + num(c.fracture_energy);
+         num(c.deflection) + "," + std::to_string(c.process_zone) + "," + num(c.process_zone_extent) + "," +
+         num(c.fracture_energy);
 }
 
 double rayleigh_speed_plane_stress(double E, double nu, double rho) {

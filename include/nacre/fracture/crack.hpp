@@ -32,14 +32,14 @@ namespace nacre::fracture {
 
 /// \brief One reading of the crack (lengths in the specimen's unit, mm).
 struct CrackReading {
-  int interfaces = 0;             ///< ruptured interfaces connected to the notch
-  int bed = 0, head = 0;          ///< of those, bed and head joints
-  double tip_x = 0, tip_y = 0;    ///< the tip (the notch tip while nothing is connected)
-  double extension = 0;           ///< tip_x - notch tip x (projected crack length)
-  double path_length = 0;         ///< shortest distance from the notch to the tip along the crack
-  double deflection = 0;          ///< path_length / extension (0 when extension is 0)
-  int process_zone = 0;           ///< softening interfaces connected to the crack (or the notch tip)
-  double process_zone_extent = 0; ///< how far they reach beyond the tip along the ligament
+  int interfaces = 0;              ///< ruptured interfaces connected to the notch
+  int bed = 0, head = 0;           ///< of those, bed and head joints
+  double tip_x = 0, tip_y = 0;     ///< the tip (the notch tip while nothing is connected)
+  double extension = 0;            ///< tip_x - notch tip x (projected crack length)
+  double path_length = 0;          ///< shortest distance from the notch to the tip along the crack
+  double deflection = 0;           ///< path_length / extension (0 when extension is 0)
+  int process_zone = 0;            ///< softening interfaces connected to the crack (or the notch tip)
+  double process_zone_extent = 0;  ///< how far they reach beyond the tip along the ligament
   /// Energy of fracture: the cohesive energy of every softening and ruptured joint (the reversible
   /// law's stand-in for the work dissipated; docs/fracture.md), N mm (MC: per unit depth); 0
   /// when no energies were given.
@@ -74,11 +74,11 @@ private:
   CrackReading measure_impl(std::span<const T> state, std::span<const double> energy, std::vector<int>* members) const;
 
   std::vector<double> node_x_, node_y_;
-  std::vector<int> end0_, end1_;                 ///< per interface: its two nodes
-  std::vector<double> length_;                   ///< per interface
+  std::vector<int> end0_, end1_;  ///< per interface: its two nodes
+  std::vector<double> length_;    ///< per interface
   std::vector<geometry::JointKind> kind_;
-  std::vector<int> adj_offset_, adj_iface_;      ///< node -> incident interfaces (CSR)
-  std::vector<int> roots_;                       ///< nodes on the notch
+  std::vector<int> adj_offset_, adj_iface_;  ///< node -> incident interfaces (CSR)
+  std::vector<int> roots_;                   ///< nodes on the notch
   double notch_tip_x_ = 0, notch_y_ = 0;
 };
 

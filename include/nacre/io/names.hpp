@@ -12,8 +12,8 @@ inline constexpr std::string_view mesh = "mesh.h5";
 inline constexpr std::string_view xdmf = "nacre.xdmf";
 inline constexpr std::string_view summary = "summary.json";
 inline constexpr std::string_view checkpoint = "checkpoint.h5";
-inline constexpr std::string_view mc_table = "steps.csv";   ///< Monte Carlo: one row per load step
-inline constexpr std::string_view dyn_table = "series.csv"; ///< dynamics: one row per csv_interval steps
+inline constexpr std::string_view mc_table = "steps.csv";    ///< Monte Carlo: one row per load step
+inline constexpr std::string_view dyn_table = "series.csv";  ///< dynamics: one row per csv_interval steps
 /// \brief What the chart scripts write (nacre_plot.py, nacre_dyn_plot.py): charts and the R-curve.
 inline constexpr std::array<std::string_view, 4> charts = {"energy_force.png", "crack.png", "r_curve.png",
                                                            "r_curve.csv"};
