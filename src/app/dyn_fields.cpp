@@ -17,7 +17,6 @@ namespace {
 
 std::string num(double v) { return format_real(v, 17); }
 
-
 }  // namespace
 
 std::string first_non_finite(const dyn::Snapshot& s) {
@@ -48,8 +47,7 @@ std::string series_line(const SeriesRow& r) {
          num(e.kinetic) + "," + num(e.cohesive) + "," + num(e.damping_dissipated) + "," + num(e.external_work) + "," +
          num(e.balance_residual) + "," + num(r.reaction) + "," + std::to_string(r.ruptured) + "," +
          fracture::csv_columns(r.crack, 17) + "," + num(r.crack_speed) + "," + num(r.crack_speed_rayleigh) + "," +
-         num(r.dt) + "," +
-         num(r.critical_estimate) + "," + num(r.seconds) + "\n";
+         num(r.dt) + "," + num(r.critical_estimate) + "," + num(r.seconds) + "\n";
 }
 
 DynFields::DynFields(const geometry::Specimen& s, const geometry::Interfaces& f, const dyn::Snapshot& first)

@@ -24,8 +24,8 @@ struct SeriesRow {
   dyn::Energies e;
   double reaction = 0;
   int ruptured = 0;
-  fracture::CrackReading crack;  ///< the crack from the notch (fracture/crack.hpp)
-  double crack_speed = 0;        ///< d(crack extension)/dt since the previous row, mm/s (0 on the first row)
+  fracture::CrackReading crack;     ///< the crack from the notch (fracture/crack.hpp)
+  double crack_speed = 0;           ///< d(crack extension)/dt since the previous row, mm/s (0 on the first row)
   double crack_speed_rayleigh = 0;  ///< crack_speed over the bricks' Rayleigh wave speed
   double dt = 0;                 ///< step in use (the adaptive mode changes it)
   double critical_estimate = 0;  ///< the stability monitor's estimated critical step at the last check

@@ -509,8 +509,8 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
       summary();
       std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
                 << " s); checkpoint written to " << writer.checkpoint_path().string()
-                << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string()
-                << " --restart " << writer.checkpoint_path().string() << "\n";
+                << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string() << " --restart "
+                << writer.checkpoint_path().string() << "\n";
       return 128 + sig;
     }
     if (progress && (elapsed() - last_progress > 0.25 || finished())) {

@@ -477,10 +477,14 @@ void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>&
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
   const int nm = I.m.n_mortar;  // bed/head only
-  Kokkos::View<double*> dmg(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage"), std::max(nm, 1));
-  Kokkos::View<int*> st(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage_state"), std::max(nm, 1));
+  Kokkos::View<double*> dmg(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage"),
+                            std::max(nm, 1));
+  Kokkos::View<int*> st(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
+                        std::max(nm, 1));
   Kokkos::View<double*> en;
-  if (energy) en = Kokkos::View<double*>(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"), std::max(nm, 1));
+  if (energy)
+    en = Kokkos::View<double*>(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"),
+                               std::max(nm, 1));
   dyn::interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st, en);
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);

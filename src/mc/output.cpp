@@ -20,7 +20,8 @@ std::string num(double v) { return format_real(v, 10); }
 
 std::string csv_header() {
   return "step,displacement,energy,reaction,cycles,acceptance,ruptured,converged,step_size,"
-         "rot_step,increment,reverts,seconds,residual,polish_iterations," + fracture::csv_header() + "\n";
+         "rot_step,increment,reverts,seconds,residual,polish_iterations," +
+         fracture::csv_header() + "\n";
 }
 
 std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack) {
