@@ -118,7 +118,8 @@ def main(argv):
         a.set_ylim(0, 1.3 * top)
     a.set_xlabel("applied displacement D")
     a.legend(fontsize=7)
-    a.set_title("energy against D per run (Fig. 2.8b)")
+    mc = any(c is not None and "E" in c for c in curves)
+    a.set_title("energy against D per run (Fig. 2.8b)" if mc else "reaction against D per run")
     # against the first key, one line per combination of the others
     x_key = keys[0]
     groups = {}
@@ -136,6 +137,9 @@ def main(argv):
                        label=", ".join(f"{k}={v}" for k, v in zip(keys[1:], g)) or None)
             if not numeric:
                 panel.set_xticks(range(len(xs)), xs)
+        if not any(math.isfinite(float(r.get(key, math.nan))) for r in rows):
+            panel.text(0.5, 0.5, "no crack left the notch in any run" if key != "peak_reaction" else "no data",
+                       transform=panel.transAxes, ha="center", va="center", color="gray")
         panel.set_xlabel(x_key)
         panel.set_ylabel(label)
         panel.grid(True, alpha=0.3)
