@@ -201,7 +201,13 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
   };
   auto dump = [&](int step) {
     io::Snapshot snap = mc::snapshot(solver, specimen, interfaces, step);
-    snap.fields.push_back({io::Centre::interface, "crack", crack.crack_mask(solver.interface_states()), 1});
+    // the crack from the states the snapshot holds (no second evaluation of the interfaces)
+    const auto state = std::find_if(snap.fields.begin(), snap.fields.end(), [](const io::Field& f) {
+      return f.centre == io::Centre::interface && f.name == "state";
+    });
+    if (state == snap.fields.end()) throw std::logic_error("mc::snapshot holds no interface state");
+    snap.fields.push_back(
+        {io::Centre::interface, "crack", crack.crack_mask(std::get<std::vector<std::int8_t>>(state->data)), 1});
     writer.dump(snap);
     writer.checkpoint(last);
   };

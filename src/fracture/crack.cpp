@@ -175,22 +175,17 @@ std::vector<int> CrackTracker::crack_interfaces(std::span<const int> state) cons
   return m;
 }
 
-namespace {
 template <class T>
-std::vector<std::int8_t> mask_of(const CrackTracker& t, std::span<const T> state, std::size_t n) {
-  std::vector<int> ints(state.begin(), state.end());
-  std::vector<std::int8_t> mask(n, 0);
-  for (int i : t.crack_interfaces(ints)) mask[static_cast<std::size_t>(i)] = 1;
+std::vector<std::int8_t> CrackTracker::mask_impl(std::span<const T> state) const {
+  std::vector<int> members;
+  (void)measure_impl(state, std::span<const double>{}, &members);
+  std::vector<std::int8_t> mask(end0_.size(), 0);
+  for (int i : members) mask[static_cast<std::size_t>(i)] = 1;
   return mask;
 }
-}  // namespace
 
-std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const int> state) const {
-  return mask_of(*this, state, end0_.size());
-}
-std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const std::int8_t> state) const {
-  return mask_of(*this, state, end0_.size());
-}
+std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const int> state) const { return mask_impl(state); }
+std::vector<std::int8_t> CrackTracker::crack_mask(std::span<const std::int8_t> state) const { return mask_impl(state); }
 
 std::string csv_header() {
   return "crack_interfaces,crack_bed,crack_head,crack_tip_x,crack_tip_y,crack_extension,crack_path_length,"

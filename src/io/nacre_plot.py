@@ -30,6 +30,13 @@ def save_png(fig, path, **kw):
             os.remove(tmp)
         raise
 
+def quadratic_fit(D, E):
+    """c of E = c D^2 fitted (least squares) through the first fifth of the points (at least 2):
+    where the response leaves linear elasticity (energy_force.png, the sweep's Fig. 2.8b)."""
+    n0 = max(2, len(D) // 5)
+    return float(np.dot(D[:n0] ** 2, E[:n0]) / max(np.dot(D[:n0] ** 2, D[:n0] ** 2), 1e-300))
+
+
 def r_curve_points(rows, thickness, gc):
     """The R-curve of a run's table (steps.csv or series.csv rows with crack_extension and
     fracture_energy; docs/fracture.md): one point each time the crack extension reaches a new
@@ -64,9 +71,7 @@ def toughening_ratio(pts, thickness, gc):
 def r_curve(out, rows):
     """r_curve.csv and r_curve.png of a run directory (both solver families); prints the
     toughening ratio. Nothing is written for a run whose summary.json has no crack reading."""
-    import json
-    summ_path = os.path.join(out, "summary.json")
-    crack = json.load(open(summ_path)).get("crack", {}) if os.path.exists(summ_path) else {}
+    crack = Run(out).summary.get("crack", {})
     if not rows or "fracture_energy" not in rows[0] or "bed_work_of_fracture" not in crack:
         return None
     t, gc = crack["thickness"], crack["bed_work_of_fracture"]
@@ -123,8 +128,7 @@ def main(out):
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     ax[0].plot(D, E, "o-", ms=3, label="Monte Carlo")
     # quadratic fit through the first steps shows where the response leaves linear elasticity
-    n0 = max(2, len(D) // 5)
-    c = np.dot(D[:n0] ** 2, E[:n0]) / max(np.dot(D[:n0] ** 2, D[:n0] ** 2), 1e-300)
+    c = quadratic_fit(D, E)
     ax[0].plot(D, c * D ** 2, "--", color="gray", label="quadratic (initial fit)")
     ax[0].set_xlabel("applied displacement D")
     ax[0].set_ylabel("total energy")

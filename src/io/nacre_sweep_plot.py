@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from nacre_plot import r_curve_points, save_png, toughening_ratio  # noqa: E402
+from nacre_plot import quadratic_fit, r_curve_points, save_png, toughening_ratio  # noqa: E402
 from nacre_results import Run  # noqa: E402
 
 
@@ -35,13 +35,6 @@ def number(v):
         return float(v)
     except ValueError:
         return v
-
-
-def quadratic_fit(D, E):
-    """c of E = c D^2 through the first fifth of the points (at least 2)."""
-    n0 = max(2, len(D) // 5)
-    den = float(np.dot(D[:n0] ** 2, D[:n0] ** 2))
-    return float(np.dot(D[:n0] ** 2, E[:n0])) / den if den > 0 else math.nan
 
 
 def read_run(run):

@@ -72,6 +72,8 @@ public:
 private:
   template <class T>
   CrackReading measure_impl(std::span<const T> state, std::span<const double> energy, std::vector<int>* members) const;
+  template <class T>
+  std::vector<std::int8_t> mask_impl(std::span<const T> state) const;
 
   std::vector<double> node_x_, node_y_;
   std::vector<int> end0_, end1_;  ///< per interface: its two nodes
