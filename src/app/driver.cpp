@@ -65,6 +65,12 @@ std::string unfinished(const io::Checkpoint& c) {
     return at + ", t = " + g(t->second) + " s of " + g(end->second) + " s";
   }
   const auto D = c.reals.find("displacement"), F = c.reals.find("final_displacement");
+  const auto leg = c.integers.find("leg"), legs = c.integers.find("legs");
+  if (leg != c.integers.end() && legs != c.integers.end() && D != c.reals.end()) {  // a load programme's legs
+    if (leg->second >= legs->second) return "";
+    return at + ", D = " + g(D->second) + " on leg " + std::to_string(leg->second + 1) + " of " +
+           std::to_string(legs->second);
+  }
   if (D == c.reals.end() || F == c.reals.end() || !(D->second < F->second * (1 - 1e-12))) return "";
   return at + ", D = " + g(D->second) + " of " + g(F->second);
 }

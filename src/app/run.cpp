@@ -96,10 +96,14 @@ mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, 
     throw io::CheckpointError(restart + ": " + e.what());
   }
   const double cp_final = named.real("final_displacement");
-  if (cp.displacement > d.load.final_displacement * (1 + 1e-12))
+  if (d.load.programme.empty() && cp.displacement > d.load.final_displacement * (1 + 1e-12))
     throw io::CheckpointError(restart + ": the checkpoint is at D = " + std::to_string(cp.displacement) +
                               ", beyond this deck's final_displacement = " + std::to_string(d.load.final_displacement) +
                               " (" + d.where("load.final_displacement") + ")");
+  if (cp.run.leg > static_cast<int>(d.load.targets().size()))
+    throw io::CheckpointError(restart + ": the checkpoint is on leg " + std::to_string(cp.run.leg + 1) +
+                              " of a load programme, this deck has " + std::to_string(d.load.targets().size()) + " (" +
+                              d.where("load.programme") + ")");
   if (cp_final != d.load.final_displacement && !opt.extend)
     throw io::CheckpointError(restart + ": the checkpoint's run ends at final_displacement = " +
                               std::to_string(cp_final) + ", this deck at " + std::to_string(d.load.final_displacement) +
@@ -159,7 +163,8 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
          << writer.directory().string() << "/\n";
   const auto checkpoint_path = writer.checkpoint_path();
   auto named_checkpoint = [&] {
-    return mc::to_named(solver.checkpoint(), print, text, d.load.final_displacement);
+    return mc::to_named(solver.checkpoint(), print, text, d.load.final_displacement,
+                        static_cast<int>(d.load.targets().size()));
   };
   io::Checkpoint last = named_checkpoint();  // state after the last completed step
 
@@ -176,7 +181,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     const double now = elapsed();
     if (!step_done && now - last_line < 0.25) return;  // the solver calls after every cycle
     last_line = now;
-    const double frac = solver.load() / d.load.final_displacement;
+    const double frac = solver.path_fraction();
     const double spent = now - t_run;
     const double left = frac > 0 ? spent / frac - spent : -1;
     std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ",
@@ -216,7 +221,7 @@ int run_deck(deck::Deck d, const RunOptions& opt) {
     current_step = r.step;
     writer.row(r.step, mc::csv_row(r, read_crack()));
     last = named_checkpoint();
-    const bool final_step = r.displacement >= d.load.final_displacement * (1 - 1e-12);
+    const bool final_step = r.last;
     if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || final_step) dump(r.step);
     if (progress) {
       step_done = true;

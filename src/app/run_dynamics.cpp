@@ -120,6 +120,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   p.ramp_time = D.ramp_time;
   p.ramp = D.ramp;
   p.final_displacement = d.load.final_displacement;
+  p.programme = d.load.programme;
   p.tension = d.load.tension;
   p.bending = d.load.bending;
   p.thermal_strain = D.thermal_strain;
@@ -411,6 +412,7 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     j["seconds"] = elapsed();
     j["seconds_per_step"] = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0.0;
     // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
+    fracture::put_damage_json(j, d);
     writer.summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
   };
   // Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.

@@ -125,7 +125,7 @@ Estimate estimate(const Deck& d) {
   e.bricks = rows * cols + (G.notch_length > 0 ? cols : 0);
   const auto& L = d.load;
   const double smallest = L.adaptive ? std::min(L.min_step, L.initial_step) : L.initial_step;
-  e.load_steps = L.final_displacement / smallest;
+  e.load_steps = L.path_length() / smallest;  // the whole path (a programme unloads and reloads)
   e.bytes = e.bricks * bytes_per_brick;
   return e;
 }
@@ -167,7 +167,8 @@ void check_limits(const Deck& d) {
   magnitude("geometry.height", G.height);
   magnitude("geometry.brick_width", G.brick_width);
   magnitude("geometry.brick_height", G.brick_height);
-  magnitude("load.final_displacement", d.load.final_displacement);
+  if (d.load.programme.empty()) magnitude("load.final_displacement", d.load.final_displacement);
+  else magnitude("load.programme", d.load.max_displacement());
   magnitude("load.initial_step", d.load.initial_step);
   magnitude("load.min_step", d.load.min_step);
   for (const auto& [name, law] : {std::pair{"bed", &d.mortar.bed}, std::pair{"head", &d.mortar.head}})

@@ -403,6 +403,10 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     rec.push_back(r);
   }
   m.n_mortar = static_cast<int>(rec.size());
+  if (mortar.damage == cohesive::Damage::irreversible) {
+    if (m.quad.n < 2) throw std::invalid_argument("dyn: damage = \"irreversible\" needs quadrature_points >= 2");
+    m.hist = decltype(m.hist)("nacre::dyn::history", m.n_mortar, m.quad.n);  // zero: no separation seen
+  }
   // Interfaces in element order (by their lower element, the geometry's cell order among ties):
   // the geometry lists them cell by cell (a cell spans ~3.6 brick rows), so the gather of an
   // element's force rows jumped between rows; in element order the rows an element gathers, and

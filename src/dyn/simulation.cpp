@@ -45,6 +45,7 @@ struct Simulation::Impl {
   HostMap map;
   std::size_t n_bricks = 0;
   DofView<Mem> u, v, a, u0, v0, a0;
+  decltype(Model<>::hist) hist0;  ///< the damage history's roll-back copy (irreversible damage only)
   AccView<Mem> acc, acc0;
   DrivenAccView<Mem> dacc, dacc0;
   IforceView<Mem> iforce;
@@ -84,6 +85,7 @@ struct Simulation::Impl {
     acc = make<AccView<Mem>>("acc", ne, nc), acc0 = make<AccView<Mem>>("acc0", ne, nc);
     dacc = make<DrivenAccView<Mem>>("dacc", ndr), dacc0 = make<DrivenAccView<Mem>>("dacc0", ndr);
     iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
+    if (m.hist.data()) hist0 = decltype(hist0)("nacre::dyn::history0", m.hist.extent(0), m.hist.extent(1));
     ws.reserve(std::max(ne, m.n_iface));
     if (p.growth_factor > 0) {
       share = Kokkos::View<double*, Mem>("nacre::dyn::monitor::share", ne);
@@ -178,6 +180,7 @@ struct Simulation::Impl {
     } else {
       verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     }
+    update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);  // irreversible damage: after every step
     ++step;
   }
 
@@ -198,10 +201,12 @@ struct Simulation::Impl {
   void save_copy(const Exec& space) {
     Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
     Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
+    if (m.hist.data()) Kokkos::deep_copy(space, hist0, m.hist);
   }
   void load_copy(const Exec& space) {
     Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
     Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
+    if (m.hist.data()) Kokkos::deep_copy(space, m.hist, hist0);
   }
 
   double sum_acc(AccCol col) { return column_sum(space, ws, acc, col, m.n_elem); }
@@ -319,6 +324,10 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
   I.p = p;
   I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
                          p.ramp_time, p.final_displacement};
+  if (p.programme.size() > static_cast<std::size_t>(loading::kMaxTargets))
+    throw std::invalid_argument("dyn: a load programme has at most " + std::to_string(loading::kMaxTargets) + " targets");
+  I.ramp.n_targets = static_cast<int>(p.programme.size());
+  for (std::size_t k = 0; k < p.programme.size(); ++k) I.ramp.target[k] = p.programme[k];
   I.n_bricks = s.size();
   I.m = build_model(p, s, f, mortar, I.map);
   if (I.is_bie()) {
@@ -530,6 +539,7 @@ StateArrays Simulation::save_state() const {
   StateArrays s;
   s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
   s["dacc"] = to_vector(I.dacc);
+  if (I.m.hist.data()) s["history"] = to_vector(I.m.hist);  // irreversible damage (optional array)
   // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
   // changes, the step of the time base, and the energy the books do not account for (a restore
   // that finds another value was set by hand)
@@ -562,6 +572,14 @@ void Simulation::restore_state(const StateArrays& a) {
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
   from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
   from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
+  if (I.m.hist.data() != nullptr) {
+    if (!a.count("history"))
+      throw std::runtime_error("dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
+                               "saved state has none");
+    from_vector(I.m.hist, a.at("history"), "history");
+  } else if (a.count("history")) {
+    throw std::runtime_error("dyn::restore_state: the saved state has a damage history, this run's law is reversible");
+  }
   I.step = static_cast<long>(clock[0]);
   const bool v8 = clock.size() == 10;  // nacre >= the stability monitor: time base, dt, bound, E_in
   if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
@@ -591,6 +609,7 @@ std::size_t Simulation::bytes() const {
   auto& I = *impl_;
   std::size_t b = model_bytes(I.m);
   for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
+  b += (I.m.hist.span() + I.hist0.span()) * sizeof(double);
   b += (I.acc.span() + I.acc0.span() + I.dacc.span() + I.dacc0.span() + I.iforce.span()) * sizeof(double);
   if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
   return b;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 #include <tuple>
 
 namespace nacre::mc {
@@ -27,6 +28,11 @@ Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const g
   m.colouring_name = colouring.name;
   m.laws = cohesive::make_law_table(mortar.bed, mortar.head);  // no internal joints in rigid bricks
   m.quad = cohesive::gauss_legendre(quadrature_points);
+  if (mortar.damage == cohesive::Damage::irreversible) {
+    if (m.quad.n < 2) throw std::invalid_argument("mc: damage = \"irreversible\" needs at least 2 quadrature points");
+    // zero: no separation seen yet (view_alloc initialises)
+    m.hist = decltype(m.hist)(Kokkos::view_alloc(space, "nacre::mc::history"), ni, m.quad.n);
+  }
 
   // Sweep order: free bricks by (colour, tile, wall order), then the driven bricks. Wall order
   // inside a colour or tile keeps neighbours of neighbours close in memory.

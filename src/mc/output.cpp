@@ -119,11 +119,12 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   fracture::put_json(j["crack"], crack, notch_tip_x);
   j["crack"]["thickness"] = 1.0;  // energies per unit depth: fracture_energy per unit crack length is G
   j["crack"]["bed_work_of_fracture"] = d.mortar.bed.k * d.mortar.bed.x1 * d.mortar.bed.x2;
+  fracture::put_damage_json(j, d);
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, const std::string& deck_text,
-                        double final_displacement) {
+                        double final_displacement, int legs) {
   io::Checkpoint n;
   n.fingerprint = fingerprint;
   n.strings["solver"] = "mc";
@@ -141,6 +142,8 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.reals["previous_increment"] = c.run.previous_increment;
   n.reals["max_step_residual"] = c.run.max_residual;
   n.integers["polish_iterations"] = c.run.polish_iterations;
+  n.integers["leg"] = c.run.leg;
+  n.integers["legs"] = legs;
   n.reals["displacement"] = c.displacement;
   n.reals["step_size"] = c.step_size;
   n.reals["rot_step"] = c.rot_step;
@@ -148,6 +151,7 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.arrays["pose"] = c.pose;
   n.arrays["previous_pose"] = c.previous_pose;
   if (!c.brick_step.empty()) n.arrays["brick_step"] = c.brick_step;
+  if (!c.history.empty()) n.arrays["history"] = c.history;
   return n;
 }
 
@@ -177,7 +181,6 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   if (static_cast<double>(c.trials_total) != static_cast<double>(cycles) * static_cast<double>(n_free))
     bad("trials_total = " + std::to_string(c.trials_total) + " is not global_cycle x free bricks = " +
         std::to_string(cycles) + " x " + std::to_string(n_free));
-  if (c.run.step > 0 && !c.run.have_previous) bad("have_previous = 0 after " + std::to_string(c.run.step) + " steps");
   auto real = [&](const char* name, bool positive) {
     const double v = n.real(name);
     if (!std::isfinite(v) || v < 0 || (positive && v == 0))
@@ -188,10 +191,19 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   c.run.previous_increment = real("previous_increment", false);
   c.run.max_residual = real("max_step_residual", false);
   c.run.polish_iterations = count("polish_iterations", big);
-  c.displacement = real("displacement", false);
+  c.run.leg = n.integers.count("leg") ? static_cast<int>(count("leg", 1000)) : 0;  // older nacre: one leg
+  // (a programme that turned has no previous increment to extrapolate: have_previous 0 after a turn)
+  if (c.run.step > 0 && !c.run.have_previous && c.run.leg == 0)
+    bad("have_previous = 0 after " + std::to_string(c.run.step) + " steps");
+  auto finite = [&](const char* name) {  // a load programme may take D through 0 or below
+    const double v = n.real(name);
+    if (!std::isfinite(v)) bad(std::string(name) + " = " + num(v) + " is not finite");
+    return v;
+  };
+  c.displacement = finite("displacement");
   c.step_size = real("step_size", true);
   c.rot_step = real("rot_step", true);
-  (void)real("final_displacement", true);
+  (void)finite("final_displacement");
   auto poses = [&](const char* name) {
     const auto& v = n.array(name);
     if (v.size() != 3 * n_bricks)
@@ -211,8 +223,15 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
         bad("brick_step of brick " + std::to_string(i) + " is out of range");
     }
   }
+  if (auto it = n.arrays.find("history"); it != n.arrays.end()) {
+    for (std::size_t i = 0; i < it->second.size(); ++i)
+      if (!std::isfinite(it->second[i]) || it->second[i] < 0)
+        bad("history value " + std::to_string(i) + " is " + num(it->second[i]) + "; expected a finite separation >= 0");
+    c.history = it->second;
+  }
   for (const auto& [name, v] : n.arrays)
-    if (name != "pose" && name != "previous_pose" && name != "brick_step") bad("unexpected array '" + name + "'");
+    if (name != "pose" && name != "previous_pose" && name != "brick_step" && name != "history")
+      bad("unexpected array '" + name + "'");
   return c;
 }
 

@@ -193,6 +193,7 @@ std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
   Field<double> en;
   if (energy) en = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy"), m_.n_interfaces);
   interface_state(space_, m_, en, st);
+  if (energy && m_.hist.data()) interface_dissipation(space_, m_, en);  // with a history: what it dissipated
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), en);
   std::vector<std::int8_t> out(static_cast<std::size_t>(m_.n_interfaces));
@@ -203,6 +204,29 @@ std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
   }
   times_.energy += timer.seconds();
   return out;
+}
+
+double Solver::dissipated() {
+  if (!m_.hist.data()) return 0.0;
+  Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
+                   m_.n_interfaces);
+  interface_dissipation(space_, m_, en);
+  return deterministic_sum(space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces,
+                           KOKKOS_LAMBDA(const int i) { return en(i); });
+}
+
+bool Solver::finished() const { return run_.leg >= static_cast<int>(deck_.load.targets().size()); }
+
+double Solver::path_fraction() const {
+  const auto targets = deck_.load.targets();
+  double done = 0, prev = 0;
+  for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
+    if (k < run_.leg) done += std::abs(targets[k] - prev);
+    else if (k == run_.leg) done += std::abs(D_ - prev);
+    prev = targets[k];
+  }
+  const double total = deck_.load.path_length();
+  return total > 0 ? std::min(1.0, done / total) : 1.0;
 }
 
 double Solver::residual() {
@@ -431,14 +455,36 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   double& inc_prev = run_.previous_increment;
   bool& have_prev = run_.have_previous;
   int& step = run_.step;
-  const double final_d = L.final_displacement;
-  while (D_ < final_d * (1 - 1e-12)) {
+  // the programme's targets in order (a monotonic deck: final_displacement alone); a leg is done
+  // when D is within 1e-12 of the path's largest |D| of its target
+  const std::vector<double> targets = L.targets();
+  const int n_legs = static_cast<int>(targets.size());
+  const double reached = 1e-12 * L.max_displacement();
+  auto leg_done = [&] {
+    const double t = targets[run_.leg];
+    return (t >= D_ ? t - D_ : D_ - t) <= reached;
+  };
+  // past every target D has reached; where the path turns, the last increment predicts nothing
+  auto direction = [&](int k) { return targets[k] >= (k > 0 ? targets[k - 1] : 0.0) ? 1 : -1; };
+  auto next_legs = [&] {
+    while (run_.leg < n_legs && leg_done()) {
+      if (run_.leg + 1 < n_legs && direction(run_.leg + 1) != direction(run_.leg)) have_prev = false;
+      ++run_.leg;
+    }
+  };
+  // a monotonic deck has one leg whose target --extend may have moved: where it stands follows
+  // from D alone (a programme's legs come from the checkpoint: its targets are in the fingerprint)
+  if (L.programme.empty()) run_.leg = 0;
+  next_legs();  // (a checkpoint taken on a target)
+  while (run_.leg < n_legs) {
     if (should_stop && should_stop()) {
       interrupted_ = true;
       return;
     }
     Kokkos::Timer timer;
-    double inc_now = std::min(inc, final_d - D_);
+    const double target = targets[run_.leg];
+    const double dir = target >= D_ ? 1.0 : -1.0;
+    double inc_now = std::min(inc, dir * (target - D_));
     const double D0 = D_;
     Kokkos::deep_copy(space_, save_pose_, m_.pose);
     int reverts = 0;
@@ -450,7 +496,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     const int ruptured0 = snap_limit > 0 ? ruptured() : 0;
     for (;;) {
       if (L.predictor && have_prev) predict(inc_now / inc_prev);
-      set_load(D0 + inc_now);
+      set_load(D0 + dir * inc_now);
       const bool may_revert = L.adaptive && inc_now > L.min_step * (1 + 1e-12) && c_u < S.max_cycles;
       cycle_limit_ = may_revert ? static_cast<long>(c_u) : 0;
       cycles = relax(converged);
@@ -508,8 +554,13 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
     have_prev = true;
     inc_prev = inc_now;
     if (L.adaptive) inc = std::clamp(inc_now * c_t / std::max<long>(cycles, 1), L.min_step, L.max_step);
+    // irreversible damage: the converged state's separations become history (energies unchanged:
+    // psi = f where the history grows, cohesive/damage.hpp; the sweep's cache is refilled anyway)
+    if (update_history(space_, m_) > 0) cache_valid_ = false;
+    next_legs();
 
     StepRecord r = record(++step);
+    r.last = run_.leg >= n_legs;
     r.reaction = reaction();
     const long trials = trials_total_ - trials0;
     r.acceptance = trials > 0 ? static_cast<double>(accepted_total_ - acc0) / trials : 0.0;
@@ -573,6 +624,13 @@ Checkpoint Solver::checkpoint() const {
     }
   }
   c.previous_pose = to_original_order(prev_pose_, m_.perm);
+  if (m_.hist.data()) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.hist);
+    const int nq = m_.quad.n;
+    c.history.assign(static_cast<std::size_t>(m_.n_interfaces) * nq, 0.0);
+    for (int i = 0; i < m_.n_interfaces; ++i)
+      for (int q = 0; q < nq; ++q) c.history[static_cast<std::size_t>(m_.iface_perm[i]) * nq + q] = h(i, q);
+  }
   return c;
 }
 
@@ -597,6 +655,18 @@ void Solver::restore(const Checkpoint& c) {
     }
     Kokkos::deep_copy(brick_steps_.step, hs);
     Kokkos::deep_copy(brick_steps_.accepted, ha);
+  }
+  if (m_.hist.data() != nullptr) {
+    const int nq = m_.quad.n;
+    if (c.history.size() != static_cast<std::size_t>(m_.n_interfaces) * nq)
+      throw std::runtime_error(c.history.empty() ? "checkpoint has no damage history, the deck's damage is irreversible"
+                                                 : "checkpoint's damage history does not match the specimen");
+    auto h = Kokkos::create_mirror_view(m_.hist);
+    for (int i = 0; i < m_.n_interfaces; ++i)
+      for (int q = 0; q < nq; ++q) h(i, q) = c.history[static_cast<std::size_t>(m_.iface_perm[i]) * nq + q];
+    Kokkos::deep_copy(space_, m_.hist, h);
+  } else if (!c.history.empty()) {
+    throw std::runtime_error("checkpoint has a damage history, the deck's damage is reversible");
   }
   run_ = c.run;
   D_ = c.displacement;

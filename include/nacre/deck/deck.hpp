@@ -5,13 +5,14 @@
 /// docs/decks.md documents every key with unit and default. Any error (unknown key, wrong type,
 /// missing value, out-of-range or inconsistent value) throws DeckError carrying
 /// "file:line: key: what was expected" before any computation starts.
-#include <nacre/cohesive/law.hpp>
+#include <nacre/cohesive/damage.hpp>
 #include <nacre/deck/dynamics.hpp>
 
 #include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace nacre::deck {
 
@@ -39,6 +40,11 @@ struct Geometry {
 struct Mortar {
   cohesive::Law bed{100.0, 0.01, 0.02};   ///< joints parallel to the rows
   cohesive::Law head{100.0, 0.01, 0.02};  ///< joints between bricks of one row
+  /// damage: "reversible" (the law alone), "irreversible" (a history per Gauss point, unloading
+  /// along the damaged secant: cohesive/damage.hpp) or "auto" (the default): irreversible exactly
+  /// when [load] programme unloads, since monotonic loading never reads a history.
+  cohesive::Damage damage = cohesive::Damage::reversible;
+  bool damage_auto = true;  ///< damage was "auto" (resolved by the [load] reader)
 };
 
 /// \brief Loading: the displacement D of the driven edges, applied in increments.
@@ -54,6 +60,37 @@ struct Load {
   /// Snap-back control: a converged increment that ruptured more interfaces than this is undone
   /// and retried at half the increment (down to min_step); 0: off.
   int max_ruptures_per_step = 0;
+  /// Displacement targets in order (programme = [0.1, 0.05, 0.2]: load to 0.1, unload to 0.05,
+  /// reload to 0.2); empty: from 0 to final_displacement. With a programme, final_displacement is
+  /// its last target.
+  std::vector<double> programme;
+
+  /// \brief The targets in order: the programme, or final_displacement alone.
+  [[nodiscard]] std::vector<double> targets() const {
+    return programme.empty() ? std::vector<double>{final_displacement} : programme;
+  }
+  /// \brief Length of the whole load path, sum of |target_k - target_{k-1}| from 0.
+  [[nodiscard]] double path_length() const {
+    double s = 0, prev = 0;
+    for (double t : targets()) s += t > prev ? t - prev : prev - t, prev = t;
+    return s;
+  }
+  /// \brief Largest |D| on the path.
+  [[nodiscard]] double max_displacement() const {
+    double r = 0;
+    for (double t : targets()) r = t > r ? t : (-t > r ? -t : r);
+    return r;
+  }
+  /// \brief True when the path turns back somewhere (loads, then unloads).
+  [[nodiscard]] bool unloads() const {
+    double prev = 0, dir = 0;
+    for (double t : targets()) {
+      const double d = t > prev ? 1.0 : -1.0;
+      if (dir != 0 && d != dir) return true;
+      dir = d, prev = t;
+    }
+    return false;
+  }
 };
 
 /// \brief Monte Carlo solver, the deck's [solver] table (named MonteCarlo so that it does not clash

@@ -58,13 +58,20 @@ struct InterfaceOp {
   Kokkos::View<const std::uint8_t*, MemorySpace> ikind;
   Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace> u;
   IforceView<MemorySpace> out;
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;  ///< Model::hist (empty: reversible)
   cohesive::LawTable laws;
   cohesive::Quadrature quad;
   double thickness;
 
   InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
       : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
-        u(u_), out(out_), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
+        u(u_), out(out_), hist(m.hist), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
+
+  /// Interface i's damage history (one value per quadrature point), or null: the reversible law
+  /// (no history in the run, or an internal joint).
+  KOKKOS_INLINE_FUNCTION double* history(int i) const {
+    return hist.data() && i < static_cast<int>(hist.extent(0)) ? &hist(i, 0) : nullptr;
+  }
 
   /// Nodal displacements of the two edges: q = (a0x a0y a1x a1y b0x b0y b1x b1y).
   KOKKOS_INLINE_FUNCTION void load(int i, double q[8]) const {
@@ -96,6 +103,7 @@ struct InterfaceOp {
     load(i, q);
     const cohesive::Law& m = laws[ikind(ishape(i))];
     const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
+    const double* kappa = history(i);
     double e = 0;
     if constexpr (kForce)
       for (int k = 0; k < 8; ++k) f[k] = 0;
@@ -103,10 +111,19 @@ struct InterfaceOp {
       double dn, dt, xa, xb;
       jump(i, q, quad.s[p], dn, dt, xa, xb);
       const double wl = quad.w[p] * lt;
-      if constexpr (kEnergy) e += wl * m(cohesive::EnergyTag{}, dn, dt);
+      // with a history: psi(d; kappa) + g(dn) (cohesive/damage.hpp), the penalty unchanged
+      const double d = kappa ? Kokkos::sqrt(dn * dn + dt * dt) : 0.0;
+      if constexpr (kEnergy)
+        e += wl * (kappa ? cohesive::damaged_energy(m, d, kappa[p]) + cohesive::g_energy(m, dn)
+                         : m(cohesive::EnergyTag{}, dn, dt));
       if constexpr (kForce) {
         double fn, ft;
-        m(cohesive::TractionTag{}, dn, dt, fn, ft);
+        if (kappa) {
+          const double r = cohesive::damaged_ratio(m, d, kappa[p]);
+          fn = r * dn + cohesive::g_slope(m, dn), ft = r * dt;
+        } else {
+          m(cohesive::TractionTag{}, dn, dt, fn, ft);
+        }
         const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
         f[0] += (1 - xa) * tx, f[1] += (1 - xa) * ty, f[2] += xa * tx, f[3] += xa * ty;
         f[4] -= (1 - xb) * tx, f[5] -= (1 - xb) * ty, f[6] -= xb * tx, f[7] -= xb * ty;
@@ -137,6 +154,8 @@ struct InterfaceOp {
     const double g1x = (1 - xb1) * q[4] + xb1 * q[6] - (1 - xa1) * q[0] - xa1 * q[2];
     const double g1y = (1 - xb1) * q[5] + xb1 * q[7] - (1 - xa1) * q[1] - xa1 * q[3];
     const double nx = inx(sh), ny = iny(sh), x1sq = m.x1 * m.x1;
+    if (const double* kappa = history(i); kappa && cohesive::max_history(kappa, quad.n) > m.x1)
+      return false;  // damaged: unloading is along the secant, not k
     if (!(g0x * nx + g0y * ny >= 0.0 && g1x * nx + g1y * ny >= 0.0 && g0x * g0x + g0y * g0y <= x1sq &&
           g1x * g1x + g1y * g1y <= x1sq))
       return false;
@@ -170,17 +189,40 @@ struct InterfaceOp {
     return r;
   }
 
+  /// Raise interface i's history to its separations now (no-op without a history).
+  KOKKOS_INLINE_FUNCTION void update_history(int i) const {
+    double* kappa = history(i);
+    if (!kappa) return;
+    double q[8];
+    load(i, q);
+    for (int p = 0; p < quad.n; ++p) {
+      double dn, dt, xa, xb;
+      jump(i, q, quad.s[p], dn, dt, xa, xb);
+      kappa[p] = Kokkos::max(kappa[p], Kokkos::sqrt(dn * dn + dt * dt));
+    }
+  }
+
+  /// Energy interface i has dissipated by damage (0 without a history).
+  KOKKOS_INLINE_FUNCTION double dissipated(int i) const {
+    const double* kappa = history(i);
+    if (!kappa) return 0.0;
+    return cohesive::dissipated(laws[ikind(ishape(i))], quad, kappa, ilen(ishape(i)) * thickness);
+  }
+
   /// Damage 0 (elastic) .. 1 (ruptured) = clamp((d_max - x1) / x2); state 0 elastic,
-  /// 1 beyond x1 somewhere, 2 ruptured at every quadrature point.
+  /// 1 beyond x1 somewhere, 2 ruptured at every quadrature point (with a history, d is the
+  /// largest separation the point has seen).
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
     double q[8];
     load(i, q);
     const cohesive::Law& m = laws[ikind(ishape(i))];
+    const double* kappa = history(i);
     double dmax = 0, dmin = 1e300;
     for (int p = 0; p < quad.n; ++p) {
       double dn, dt, xa, xb;
       jump(i, q, quad.s[p], dn, dt, xa, xb);
-      const double d = Kokkos::sqrt(dn * dn + dt * dt);
+      double d = Kokkos::sqrt(dn * dn + dt * dt);
+      if (kappa) d = Kokkos::max(d, kappa[p]);  // what the point has been through
       dmax = Kokkos::max(dmax, d), dmin = Kokkos::min(dmin, d);
     }
     dmg = Kokkos::min(1.0, Kokkos::max(0.0, (dmax - m.x1) / m.x2));
@@ -592,8 +634,18 @@ double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<Exec
   return r;
 }
 
-/// \brief Damage and state of interfaces [0, n), and their cohesive energy where `energy` is
-/// allocated (an empty View: not computed).
+/// \brief Raise the damage history of interfaces [0, n) to their separations now (after every
+/// step; nothing without a history).
+template <class ExecutionSpace>
+void update_history(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
+  if (!op.hist.data()) return;
+  Kokkos::parallel_for("nacre::dyn::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+                       KOKKOS_LAMBDA(const int i) { op.update_history(i); });
+}
+
+/// \brief Damage and state of interfaces [0, n), and where `energy` is allocated (an empty
+/// View: not computed) their energy of fracture: the energy dissipated by damage with a history,
+/// else the cohesive energy (the reversible law's stand-in).
 template <class ExecutionSpace>
 void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n,
                       const Kokkos::View<double*, MemOf<ExecutionSpace>>& dmg,
@@ -605,7 +657,7 @@ void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<Execu
                          int q;
                          op.damage(i, d, q);
                          dmg(i) = d, state(i) = q;
-                         if (energy.data()) energy(i) = op.energy(i);
+                         if (energy.data()) energy(i) = op.history(i) ? op.dissipated(i) : op.energy(i);
                        });
 }
 

@@ -106,6 +106,12 @@ struct Model {
   Kokkos::View<std::uint8_t*, MemorySpace> ikind;  ///< [shape] geometry::JointKind (bed, head, internal)
   cohesive::LawTable laws;  ///< one law per joint kind
   cohesive::Quadrature quad;
+  /// Damage history (cohesive/damage.hpp, [mortar] damage = "irreversible"): hist(i, p) is the
+  /// largest separation bed/head interface i (< n_mortar) has seen at quad's point p, raised after
+  /// every step. State, not geometry: it lives here so that every interface operator sees it.
+  /// Empty with the reversible law (and internal joints, which never leave the elastic range,
+  /// have no row). LayoutRight: an interface's few points are read together.
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;
 
   // ---- run constants
   double h = 0, alpha = 0, beta = 0, thickness = 1, eps_th = 0;

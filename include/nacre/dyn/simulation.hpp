@@ -34,6 +34,9 @@ struct Params {
   double ramp_time = 0;                  ///< s over which the rate ramps from 0 (0: none)
   Ramp ramp = Ramp::linear;
   double final_displacement = 0;         ///< D at which the opening stops growing (held after), mm (0: no limit)
+  /// Load programme: D travels through these targets in order at `rate` and is held at the last
+  /// (empty: from 0 to final_displacement); at most loading::kMaxTargets.
+  std::vector<double> programme;
   double tension = 0, bending = 1;       ///< load pattern weights, as in the rigid deck's [load]
   double thermal_strain = 0;             ///< uniform thermal load Theta (isotropic eigenstrain)
   double force_top = 0;                  ///< prescribed vertical force per unit length on the top edge, N/mm (0: none);
@@ -145,7 +148,8 @@ public:
   [[nodiscard]] Snapshot snapshot() const;
   /// \brief Per bed/head interface, in the geometry's order: damage (0 intact .. 1 ruptured) and
   /// state (0 elastic, 1 softening, 2 ruptured), as in Snapshot; for the crack reading of each row
-  /// without the snapshot's triangles. `energy` (optional): each joint's cohesive energy, N mm.
+  /// without the snapshot's triangles. `energy` (optional): each joint's energy of fracture, N mm:
+  /// what it dissipated with damage = "irreversible", its cohesive energy otherwise.
   void interface_damage(std::vector<double>& damage, std::vector<int>& state,
                         std::vector<double>* energy = nullptr) const;
   /// \brief The step monitor's last reading (refreshed by every check; step_check() reads now).

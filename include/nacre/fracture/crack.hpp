@@ -100,6 +100,18 @@ void put_json(Json& j, const CrackReading& c, double notch_tip_x) {
   j["fracture_energy"] = c.fracture_energy;
 }
 
+/// \brief The run's damage model and load path as summary.json members ("damage", "programme",
+/// and crack.fracture_energy_is: what the crack's fracture_energy measures).
+template <class Json>
+void put_damage_json(Json& j, const deck::Deck& d) {
+  const bool irr = d.mortar.damage == cohesive::Damage::irreversible;
+  j["damage"] = irr ? "irreversible" : "reversible";
+  j["damage_rule"] = d.mortar.damage_auto ? "auto" : "deck";
+  j["programme"] = d.load.targets();
+  j["crack"]["fracture_energy_is"] =
+      irr ? "dissipated" : "cohesive energy of softening and ruptured joints (reversible law)";
+}
+
 /// \brief Rayleigh wave speed of an isotropic elastic solid in plane stress (the bricks'
 /// in-plane model): the root xi in (0, 1) of (2 - xi^2)^2 = 4 sqrt(1 - xi^2 k^2) sqrt(1 - xi^2),
 /// k = c_s / c_p with c_p^2 = E / (rho (1 - nu^2)), c_s^2 = E / (2 rho (1 + nu)); returns xi c_s.

@@ -6,7 +6,7 @@
 /// Why a module of its own: the cohesive law does not care how a jump came about. Rigid bricks
 /// (Monte Carlo, Chapters 2-3) produce it from two poses here; deformable bricks (Chapter 4)
 /// from nodal displacements. Both hand the law the same cohesive::Gap.
-#include <nacre/cohesive/segment.hpp>
+#include <nacre/cohesive/damage.hpp>
 
 #include <Kokkos_Core.hpp>
 
@@ -68,9 +68,12 @@ KOKKOS_INLINE_FUNCTION cohesive::Gap interface_gap(const Segment& sg, const Pose
 }
 
 /// \brief Energy of one interface between rigid bricks in frames a and b.
+/// `kappa` (optional): the interface's history at q's points (cohesive/damage.hpp); null: the
+/// reversible law.
 KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const cohesive::Quadrature& q,
-                                               const Segment& sg, const Frame& a, const Frame& b) {
-  return cohesive::segment_energy(m, q, interface_gap(sg, a, b), sg.length);
+                                               const Segment& sg, const Frame& a, const Frame& b,
+                                               const double* kappa = nullptr) {
+  return cohesive::integrate(cohesive::EnergyTag{}, m, q, interface_gap(sg, a, b), sg.length, kappa);
 }
 
 /// \brief Gradient of one interface's energy with respect to both bricks' poses:
@@ -86,9 +89,9 @@ KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const coh
 /// owns half of tm.
 KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const cohesive::Quadrature& q,
                                                const Segment& sg, const Frame& a, const Frame& b, double ga[3],
-                                               double gb[3]) {
+                                               double gb[3], const double* kappa = nullptr) {
   const cohesive::Gap g = interface_gap(sg, a, b);
-  const cohesive::EndForces f = cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length);
+  const cohesive::EndForces f = cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length, kappa);
   const double fx = f.f0x + f.f1x, fy = f.f0y + f.f1y;
   // d u(r) / dt = (-s rx - c ry, c rx - s ry), c = cos t = 1 + c1
   const double ca = 1.0 + a.c1, cb = 1.0 + b.c1;

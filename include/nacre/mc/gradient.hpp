@@ -42,11 +42,11 @@ KOKKOS_INLINE_FUNCTION double brick_local(const InterfaceEvaluator<MemorySpace>&
     const kinematics::Frame fc = c == b ? fb : frame_of(ev.pose, c);
     if (g) {
       double ga[3], gc[3];
-      kinematics::interface_gradient(law, ev.quad, sg, fa, fc, ga, gc);
+      kinematics::interface_gradient(law, ev.quad, sg, fa, fc, ga, gc, ev.history(i));
       const double* mine = a == b ? ga : gc;
       g[0] += mine[0], g[1] += mine[1], g[2] += mine[2];
     } else {
-      e += kinematics::interface_energy(law, ev.quad, sg, fa, fc);
+      e += kinematics::interface_energy(law, ev.quad, sg, fa, fc, ev.history(i));
     }
   }
   return e;
@@ -67,8 +67,11 @@ KOKKOS_INLINE_FUNCTION double brick_delta(const InterfaceEvaluator<MemorySpace>&
     const kinematics::Segment sg = load_segment(ev.seg, i);
     const auto& law = ev.law(i);
     const kinematics::Frame fo = frame_of(ev.pose, a == b ? c : a);
-    d += a == b ? kinematics::interface_energy(law, ev.quad, sg, f1, fo) - kinematics::interface_energy(law, ev.quad, sg, f0, fo)
-                : kinematics::interface_energy(law, ev.quad, sg, fo, f1) - kinematics::interface_energy(law, ev.quad, sg, fo, f0);
+    const double* kappa = ev.history(i);
+    d += a == b ? kinematics::interface_energy(law, ev.quad, sg, f1, fo, kappa) -
+                      kinematics::interface_energy(law, ev.quad, sg, f0, fo, kappa)
+                : kinematics::interface_energy(law, ev.quad, sg, fo, f1, kappa) -
+                      kinematics::interface_energy(law, ev.quad, sg, fo, f0, kappa);
   }
   return d;
 }

@@ -46,18 +46,21 @@ struct InterfaceEvaluator {
   decltype(Model<MemorySpace>::ends) ends;
   decltype(Model<MemorySpace>::seg) seg;
   decltype(Model<MemorySpace>::kind) kind;
+  decltype(Model<MemorySpace>::hist) hist;
   cohesive::LawTable laws;
   cohesive::Quadrature quad;
 
   explicit InterfaceEvaluator(const Model<MemorySpace>& m)
-      : pose(m.pose), ends(m.ends), seg(m.seg), kind(m.kind), laws(m.laws), quad(m.quad) {}
+      : pose(m.pose), ends(m.ends), seg(m.seg), kind(m.kind), hist(m.hist), laws(m.laws), quad(m.quad) {}
 
   KOKKOS_INLINE_FUNCTION const cohesive::Law& law(int i) const { return laws[kind(i)]; }
   KOKKOS_INLINE_FUNCTION cohesive::Gap gap(int i) const {
     return kinematics::interface_gap(load_segment(seg, i), frame_of(pose, ends(i, 0)), frame_of(pose, ends(i, 1)));
   }
+  /// Interface i's damage history, or null (the reversible law).
+  KOKKOS_INLINE_FUNCTION const double* history(int i) const { return hist.data() ? &hist(i, 0) : nullptr; }
   KOKKOS_INLINE_FUNCTION double energy(int i) const {
-    return cohesive::segment_energy(law(i), quad, gap(i), seg(i, col(SegCol::length)));
+    return cohesive::integrate(cohesive::EnergyTag{}, law(i), quad, gap(i), seg(i, col(SegCol::length)), history(i));
   }
 };
 
@@ -102,15 +105,54 @@ int interface_state(const ExecutionSpace& space, const Model<MemorySpace>& m, Fi
       KOKKOS_LAMBDA(const int i, int& acc) {
         const auto& law = ev.law(i);
         const cohesive::Gap g = ev.gap(i);
-        if (energy.data()) energy(i) = cohesive::segment_energy(law, ev.quad, g, ev.seg(i, col(SegCol::length)));
+        const double* kappa = ev.history(i);
+        if (energy.data())
+          energy(i) = cohesive::integrate(cohesive::EnergyTag{}, law, ev.quad, g, ev.seg(i, col(SegCol::length)), kappa);
+        // with a history, what the joint has been through counts: ruptured for good once every
+        // point has seen x1 + x2, softening once any has passed x1
+        const double kmin = kappa ? cohesive::min_history(kappa, ev.quad.n) : 0.0;
+        const double kmax = kappa ? cohesive::max_history(kappa, ev.quad.n) : 0.0;
         std::int8_t s = 0;
-        if (cohesive::min_separation(ev.quad, g) >= law.rupture_distance()) s = 2;
-        else if (cohesive::max_separation(g) > law.x1) s = 1;
+        if (Kokkos::fmax(cohesive::min_separation(g), kmin) >= law.rupture_distance()) s = 2;
+        else if (Kokkos::fmax(cohesive::max_separation(g), kmax) > law.x1) s = 1;
         if (state.data()) state(i) = s;
         acc += (s == 2);
       },
       ruptured);
   return ruptured;
+}
+
+/// \brief Raise every interface's damage history to its separations at the current poses
+/// (cohesive::update_history; nothing without a history). The Monte Carlo rule: called once a
+/// load step has converged, so the energy minimised within a step is one function. Returns the
+/// number of interfaces whose history grew (an integer reduction: exact).
+template <class ExecutionSpace, class MemorySpace>
+int update_history(const ExecutionSpace& space, const Model<MemorySpace>& m) {
+  check_access<ExecutionSpace, MemorySpace>();
+  if (!m.hist.data()) return 0;
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::history");
+  const InterfaceEvaluator<MemorySpace> ev(m);
+  auto hist = m.hist;
+  int grew = 0;
+  Kokkos::parallel_reduce(
+      "nacre::mc::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
+      KOKKOS_LAMBDA(const int i, int& acc) { acc += cohesive::update_history(ev.quad, ev.gap(i), &hist(i, 0)); },
+      grew);
+  return grew;
+}
+
+/// \brief Energy each interface has dissipated by damage (cohesive::dissipated over its history)
+/// into `out`; zero without a history.
+template <class ExecutionSpace, class MemorySpace>
+void interface_dissipation(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> out) {
+  check_access<ExecutionSpace, MemorySpace>();
+  const InterfaceEvaluator<MemorySpace> ev(m);
+  Kokkos::parallel_for(
+      "nacre::mc::interface_dissipation", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
+      KOKKOS_LAMBDA(const int i) {
+        const double* kappa = ev.history(i);
+        out(i) = kappa ? cohesive::dissipated(ev.law(i), ev.quad, kappa, ev.seg(i, col(SegCol::length))) : 0.0;
+      });
 }
 
 /// \brief Move the driven bricks to the pose the load pattern gives them at opening D
@@ -151,22 +193,25 @@ void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m
   auto ends = m.ends;
   auto seg = m.seg;
   auto kind = m.kind;
+  auto hist = m.hist;
   const cohesive::LawTable laws = m.laws;
   const cohesive::Quadrature q = m.quad;
   Kokkos::parallel_for(
       "nacre::mc::interface_energies", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
       KOKKOS_LAMBDA(const int i) {
         cache(i) = kinematics::interface_energy(laws[kind(i)], q, load_segment(seg, i), frame_of(p, ends(i, 0)),
-                                                frame_of(p, ends(i, 1)));
+                                                frame_of(p, ends(i, 1)), hist.data() ? &hist(i, 0) : nullptr);
       });
 }
 
 /// \brief Energy of the interface in adjacency slot j with its brick in frame f and the other
 /// brick in frame fo (Model::slot: oriented from the brick's side; same bits as the interface's
-/// own orientation, see there).
+/// own orientation, see there). `kappa`: the interface's damage history at q's points, or null
+/// (the reversible law's exact integral; q is then not read).
 template <class SlotView>
 KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesive::Law& law,
-                                          const kinematics::Frame& f, const kinematics::Frame& fo) {
+                                          const kinematics::Frame& f, const kinematics::Frame& fo,
+                                          const cohesive::Quadrature& q, const double* kappa) {
   using C = SlotCol;
   double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
   kinematics::point_displacement(f, r(j, col(C::r0x)), r(j, col(C::r0y)), a0x, a0y);
@@ -175,7 +220,7 @@ KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesi
   kinematics::point_displacement(fo, r(j, col(C::o1x)), r(j, col(C::o1y)), b1x, b1y);
   const double tm = 0.5 * (f.t + fo.t), nx = r(j, col(C::nx)), ny = r(j, col(C::ny));
   const cohesive::Gap g{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, nx - tm * ny, ny + tm * nx};
-  return cohesive::segment_energy(law, g, r(j, col(C::length)));
+  return cohesive::integrate(cohesive::EnergyTag{}, law, q, g, r(j, col(C::length)), kappa);
 }
 
 namespace detail {
@@ -255,6 +300,9 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
   double* const cached = cache.data();
   double* const dE = de.data();
   const cohesive::LawTable laws = m.laws;
+  const cohesive::Quadrature quad = m.quad;
+  double* const hist = m.hist.data();  // rows of quad.n values (LayoutRight), or null
+  const int nq = m.quad.n;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
@@ -275,7 +323,8 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
         double e_old = 0, e_new = 0;
         double keep[kTrialKeep];
         for (int j = j0; j < j1; ++j) {
-          const double en = slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)));
+          const double en = slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
+                                        hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
           if (j - j0 < kTrialKeep) keep[j - j0] = en;
           e_old += cached[link(j, 1)];
           e_new += en;
@@ -286,7 +335,9 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
           store_frame(p, b, f_new);
           for (int j = j0; j < j1; ++j)
             cached[link(j, 1)] =
-                j - j0 < kTrialKeep ? keep[j - j0] : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)));
+                j - j0 < kTrialKeep ? keep[j - j0]
+                                    : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
+                                                  hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
           acc += 1;
           if (per_brick) bacc(b) += 1;  // one thread per brick: no race
         }
@@ -403,6 +454,9 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
   auto skind = m.slot_kind;
   auto tiles = m.tile_offset;
   const cohesive::LawTable laws = m.laws;
+  const cohesive::Quadrature quad = m.quad;
+  const double* const hist = m.hist.data();  // rows of quad.n values, or null
+  const int nq = m.quad.n;
   const detail::LaneLaws ll = detail::lane_laws(laws);
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
   const bool per_brick = brick_steps.active();
@@ -545,10 +599,12 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
               general[l] = on[l] & int(!((d0 <= x1sq) & (d1 <= x1sq)));
               eo[l] = cached_l[lnk_l[j * lsr + 1]];
             }
-            for (int l = 0; l < W; ++l)  // not elastic everywhere: the exact piecewise integral, per lane
-              if (general[l])
-                en[l] = slot_energy(slot, js[l], laws[skind(js[l])],
-                                    kinematics::Frame{fx[l], fy[l], ft[l], fs[l], fc[l]}, frame_of(p, link(js[l], 0)));
+            for (int l = 0; l < W; ++l) {  // not elastic everywhere, or damaged: the general integral, per lane
+              const double* kap = hist ? hist + static_cast<std::size_t>(link(js[l], 1)) * nq : nullptr;
+              if (general[l] || (on[l] && kap && cohesive::max_history(kap, nq) > laws[skind(js[l])].x1))
+                en[l] = slot_energy(slot, js[l], laws[skind(js[l])], kinematics::Frame{fx[l], fy[l], ft[l], fs[l], fc[l]},
+                                    frame_of(p, link(js[l], 0)), quad, kap);
+            }
             for (int l = 0; l < W; ++l) {
               e_old[l] = on[l] ? e_old[l] + eo[l] : e_old[l];
               e_new[l] = on[l] ? e_new[l] + en[l] : e_new[l];
@@ -565,8 +621,11 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
               const kinematics::Frame f_new{fx[l], fy[l], ft[l], fs[l], fc[l]};
               store_frame(p, b, f_new);
               for (int j = j0[l]; j < j0[l] + deg[l]; ++j)
-                cache(link(j, 1)) = j - j0[l] < kTrialKeep ? keep[j - j0[l]][l]
-                                                           : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)));
+                cache(link(j, 1)) =
+                    j - j0[l] < kTrialKeep
+                        ? keep[j - j0[l]][l]
+                        : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)), quad,
+                                      hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
               acc += 1;
               if (per_brick) bacc(b) += 1;
             }

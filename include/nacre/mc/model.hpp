@@ -68,6 +68,16 @@ struct Model {
   cohesive::LawTable laws;     ///< one law per joint kind, shared by all interfaces of the kind
   cohesive::Quadrature quad;
 
+  /// \brief Damage history (cohesive/damage.hpp): hist(i, p) is the largest separation interface
+  /// i has seen at quad's point p, in the interfaces' order (a slot's segment runs the same way,
+  /// so both of its bricks read the same row). Empty with the reversible law (damage =
+  /// "reversible"), which keeps the exact integral and pays nothing. LayoutRight: the sweep reads
+  /// an interface's few values together, beside its slot record.
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;
+
+  /// \brief Interface i's history row, or null when the model has none.
+  KOKKOS_INLINE_FUNCTION const double* history(int i) const { return hist.data() ? &hist(i, 0) : nullptr; }
+
   // ---- host-side bookkeeping
   /// \brief Work items (tiles) in sweep order: bricks of tile w are [tile_offset(w), tile_offset(w+1)).
   Kokkos::View<int*, MemorySpace> tile_offset;

@@ -29,6 +29,7 @@ struct StepRecord {
   double seconds = 0;
   double residual = 0;        ///< largest generalised force on a free brick / its scale (gradient.hpp)
   long polish_iterations = 0; ///< FIRE steps / Newton sweeps of the step
+  bool last = false;          ///< the step that reached the programme's last target: the run is done
 };
 
 /// \brief Where the loading programme stands between load steps (all a restart needs besides the
@@ -40,6 +41,7 @@ struct RunState {
   bool have_previous = false;     ///< previous converged poses exist (predictor)
   double max_residual = 0;        ///< largest step residual so far (summary.json)
   long polish_iterations = 0;     ///< polish iterations so far (summary.json)
+  int leg = 0;                    ///< index of the programme target being approached (deck::Load::targets)
 };
 
 /// \brief Everything a checkpoint holds: restarting from it continues the run bit for bit.
@@ -51,6 +53,9 @@ struct Checkpoint {
   long accepted_total = 0, trials_total = 0, window_accepted = 0, window_trials = 0;
   std::vector<double> pose, previous_pose;  ///< n x 3, original brick order
   std::vector<double> brick_step;           ///< step_mode per-brick: n x 3 (step, rot, accepted), original order; else empty
+  /// damage = "irreversible": the damage history, n_interfaces x points (original interface
+  /// order, a row per interface); else empty
+  std::vector<double> history;
 };
 
 /// \brief Wall time per phase (fenced), the split of Fig. 2.12.
@@ -89,7 +94,8 @@ public:
   int ruptured();
   /// \brief Per interface, in the geometry's order: 0 elastic, 1 softening, 2 ruptured (as the
   /// dumps' "state"; fracture::CrackTracker reads the crack from it).
-  /// `energy` (optional) gets each interface's cohesive energy in the same order.
+  /// `energy` (optional) gets each interface's energy of fracture in the same order: what it
+  /// dissipated with damage = "irreversible", its cohesive energy otherwise.
   [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
@@ -123,6 +129,12 @@ public:
   /// \brief Continue from a checkpoint (the solver must have been built with its colouring).
   void restore(const Checkpoint& c);
   [[nodiscard]] const RunState& run_state() const { return run_; }
+  /// \brief The run has reached the programme's last target (nothing left for run()).
+  [[nodiscard]] bool finished() const;
+  /// \brief Fraction of the load path travelled (progress): 0 at the start, 1 at the end.
+  [[nodiscard]] double path_fraction() const;
+  /// \brief Energy dissipated by damage so far (0 with the reversible law; deterministic sum).
+  double dissipated();
 
   /// \brief Called after every cycle inside a step with (cycles so far, energy), for progress
   /// (the caller throttles by time).

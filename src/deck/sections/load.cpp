@@ -1,6 +1,10 @@
 // [load]: the prescribed-displacement pattern and the load-step programme (required section).
 #include "../section.hpp"
 
+#include <nacre/loading/ramp.hpp>
+
+#include <cmath>
+
 namespace nacre::deck::detail {
 
 void read_load(Section& top, Deck& d) {
@@ -9,7 +13,32 @@ void read_load(Section& top, Deck& d) {
   auto& L = d.load;
   l.number("tension", {}, L.tension, [](double) { return true; }, "a number");
   l.number("bending", {}, L.bending, [](double) { return true; }, "a number");
-  l.number("final_displacement", {}, L.final_displacement, positive, "a positive displacement", true);
+  // programme: the targets in order (finite, each different from the one before, starting away
+  // from 0); replaces final_displacement, which becomes its last target
+  if (const toml::node* n = l.find("programme", {"program"})) {
+    const std::string expected = "an array of displacement targets in order, e.g. [0.1, 0.05, 0.2] (at most " +
+                                 std::to_string(loading::kMaxTargets) + ")";
+    const toml::array* a = n->as_array();
+    if (!a || a->empty() || a->size() > std::size_t(loading::kMaxTargets)) l.fail("programme", "expected " + expected);
+    double prev = 0;
+    for (const auto& e : *a) {
+      double v;
+      if (auto x = e.value_exact<double>()) v = *x;
+      else if (auto i = e.value_exact<std::int64_t>()) v = static_cast<double>(*i);
+      else l.fail("programme", "an entry is not a number; expected " + expected);
+      if (!std::isfinite(v) || v == prev)
+        l.fail("programme", "entry " + std::to_string(L.programme.size() + 1) +
+                                " is not finite or repeats the displacement before it (0 at the start); expected " +
+                                expected);
+      L.programme.push_back(v);
+      prev = v;
+    }
+    if (l.find("final_displacement", {}))
+      l.fail("final_displacement", "given with programme; expected one of them (the programme ends at its last target)");
+    L.final_displacement = L.programme.back();
+  } else {
+    l.number("final_displacement", {}, L.final_displacement, positive, "a positive displacement", true);
+  }
   l.number("initial_step", {"InitialLoadStepSize"}, L.initial_step, positive, "a positive displacement");
   L.min_step = L.max_step = L.initial_step;
   l.number("min_step", {"MinLoadStepSize"}, L.min_step, positive, "a positive displacement");
@@ -19,14 +48,17 @@ void read_load(Section& top, Deck& d) {
   l.integer("max_ruptures_per_step", {}, L.max_ruptures_per_step, 0, 1000000000,
             "an interface count >= 0 (0: no snap-back control)");
   // unknown keys first: a misspelt "bendng" is named, not reported as a zero bending
-  l.reject_unknown({"tension", "bending", "final_displacement", "initial_step (InitialLoadStepSize)",
+  l.reject_unknown({"tension", "bending", "final_displacement", "programme", "initial_step (InitialLoadStepSize)",
                     "min_step (MinLoadStepSize)", "max_step (MaxLoadStepSize)", "adaptive", "predictor",
                     "max_ruptures_per_step"});
+  // damage = "auto": history only where the path unloads (monotonic loading never reads it)
+  if (d.mortar.damage_auto)
+    d.mortar.damage = L.unloads() ? cohesive::Damage::irreversible : cohesive::Damage::reversible;
   if (L.tension == 0 && L.bending == 0)
     l.fail("tension", "tension and bending are both zero; expected at least one non-zero load component");
   check_bracket(l, "initial_step", L.initial_step, L.min_step, L.max_step, "min_step");
   // (a [dynamics] deck has no load steps; its reader rejects these keys)
-  if (!top.table()->contains("dynamics") && L.initial_step > L.final_displacement)
+  if (!top.table()->contains("dynamics") && L.programme.empty() && L.initial_step > L.final_displacement)
     l.fail("initial_step", "first increment exceeds final_displacement; expected initial_step <= final_displacement");
 }
 

@@ -18,7 +18,13 @@ void read_mortar(Section& top, Deck& d) {
   check_law(head, d.mortar.head);
   bed.reject_unknown({"k", "x1", "x2"});
   head.reject_unknown({"k", "x1", "x2"});
-  m.reject_unknown({"k", "x1", "x2", "bed", "head"});
+  std::string damage = "auto";
+  m.string("damage", damage, {"auto", "reversible", "irreversible"},
+           "\"reversible\" (the law alone), \"irreversible\" (unloading along the damaged secant, a history per "
+           "Gauss point) or \"auto\" (irreversible when [load] programme unloads)");
+  d.mortar.damage_auto = damage == "auto";
+  d.mortar.damage = damage == "irreversible" ? cohesive::Damage::irreversible : cohesive::Damage::reversible;
+  m.reject_unknown({"k", "x1", "x2", "damage", "bed", "head"});
 }
 
 }  // namespace nacre::deck::detail
