@@ -42,9 +42,9 @@ TEST_CASE("damage: psi is C1 at the history; D(kappa) is the area above the seca
     CHECK(damaged_energy(law, d, kappa) - dissipated(law, kappa) ==
           Catch::Approx(0.5 * f_slope(law, kappa) / kappa * d * d).margin(1e-15));
   }
-  CHECK(dissipated(law, law.x1) == 0.0);                                                       // elastic
-  CHECK(dissipated(law, 0.02) == Catch::Approx(0.5 * law.k * law.x1 * (0.02 - law.x1)));        // plateau
-  CHECK(dissipated(law, x12) == Catch::Approx(law.k * law.x1 * law.x2));                       // rupture
+  CHECK(dissipated(law, law.x1) == 0.0);                                                  // elastic
+  CHECK(dissipated(law, 0.02) == Catch::Approx(0.5 * law.k * law.x1 * (0.02 - law.x1)));  // plateau
+  CHECK(dissipated(law, x12) == Catch::Approx(law.k * law.x1 * law.x2));                  // rupture
   CHECK(dissipated(law, 3 * x12) == Catch::Approx(law.k * law.x1 * law.x2));
   CHECK(secant(law, x12) == 0.0);  // ruptured: no traction, whatever the opening
   double prev = 0;
@@ -77,7 +77,7 @@ TEST_CASE("damage: one joint loaded, unloaded and reloaded: the loop's area is t
   const double t_load_half = f_slope(law, 0.5 * a);
   move_to(0.5 * a);
   CHECK(traction(d) == Catch::Approx(0.5 * f_slope(law, a)).epsilon(1e-12));  // on the secant to the origin
-  CHECK(traction(d) < t_load_half);                                            // below the loading curve: hysteresis
+  CHECK(traction(d) < t_load_half);                                           // below the loading curve: hysteresis
   move_to(0.0);
   CHECK(work == Catch::Approx(dissipated(law, a)).epsilon(1e-8));  // the closed loop's area
   CHECK(work > 0.1 * law.k * law.x1 * law.x2);
@@ -86,7 +86,7 @@ TEST_CASE("damage: one joint loaded, unloaded and reloaded: the loop's area is t
   move_to(b);  // through rupture
   move_to(0.0);
   CHECK(work == Catch::Approx(law.k * law.x1 * law.x2).epsilon(1e-8));  // all of the work to failure
-  CHECK(traction(0.5 * b) == 0.0);  // a ruptured joint stays ruptured
+  CHECK(traction(0.5 * b) == 0.0);                                      // a ruptured joint stays ruptured
 }
 
 TEST_CASE("damage: a segment's end forces are the gradient of its energy at a fixed history", "[damage][fd]") {
@@ -188,7 +188,8 @@ TEST_CASE("damage: a notched specimen loaded, unloaded and reloaded (Monte Carlo
   CHECK(down6.r.reaction == Catch::Approx(0.6 * peak.r.reaction).epsilon(1e-2));
   CHECK(down6.r.reaction < 0.98 * rows[2].r.reaction);  // below the loading curve at the same D: hysteresis
   CHECK(up10.r.reaction == Catch::Approx(peak.r.reaction).epsilon(1e-2));
-  CHECK(up10.dissipated == Catch::Approx(peak.dissipated).epsilon(1e-6));  // nothing new until past the peak (to the residual)
+  CHECK(up10.dissipated ==
+        Catch::Approx(peak.dissipated).epsilon(1e-6));  // nothing new until past the peak (to the residual)
   // at D = 0 every gap closes (the unique minimum): the energy left is what was dissipated
   CHECK(zero.r.energy == Catch::Approx(zero.dissipated).epsilon(1e-6));
   // the closed loop's area (trapezoid over the steps, F = 0 at D = 0) is the dissipated energy

@@ -167,8 +167,10 @@ void check_limits(const Deck& d) {
   magnitude("geometry.height", G.height);
   magnitude("geometry.brick_width", G.brick_width);
   magnitude("geometry.brick_height", G.brick_height);
-  if (d.load.programme.empty()) magnitude("load.final_displacement", d.load.final_displacement);
-  else magnitude("load.programme", d.load.max_displacement());
+  if (d.load.programme.empty())
+    magnitude("load.final_displacement", d.load.final_displacement);
+  else
+    magnitude("load.programme", d.load.max_displacement());
   magnitude("load.initial_step", d.load.initial_step);
   magnitude("load.min_step", d.load.min_step);
   for (const auto& [name, law] : {std::pair{"bed", &d.mortar.bed}, std::pair{"head", &d.mortar.head}})

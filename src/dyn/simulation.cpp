@@ -325,7 +325,8 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
   I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
                          p.ramp_time, p.final_displacement};
   if (p.programme.size() > static_cast<std::size_t>(loading::kMaxTargets))
-    throw std::invalid_argument("dyn: a load programme has at most " + std::to_string(loading::kMaxTargets) + " targets");
+    throw std::invalid_argument("dyn: a load programme has at most " + std::to_string(loading::kMaxTargets) +
+                                " targets");
   I.ramp.n_targets = static_cast<int>(p.programme.size());
   for (std::size_t k = 0; k < p.programme.size(); ++k) I.ramp.target[k] = p.programme[k];
   I.n_bricks = s.size();
@@ -574,8 +575,9 @@ void Simulation::restore_state(const StateArrays& a) {
   from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
   if (I.m.hist.data() != nullptr) {
     if (!a.count("history"))
-      throw std::runtime_error("dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
-                               "saved state has none");
+      throw std::runtime_error(
+          "dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
+          "saved state has none");
     from_vector(I.m.hist, a.at("history"), "history");
   } else if (a.count("history")) {
     throw std::runtime_error("dyn::restore_state: the saved state has a damage history, this run's law is reversible");

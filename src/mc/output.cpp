@@ -179,8 +179,8 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   c.window_trials = count("window_trials", c.trials_total);
   c.window_accepted = count("window_accepted", c.window_trials);
   if (static_cast<double>(c.trials_total) != static_cast<double>(cycles) * static_cast<double>(n_free))
-    bad("trials_total = " + std::to_string(c.trials_total) + " is not global_cycle x free bricks = " +
-        std::to_string(cycles) + " x " + std::to_string(n_free));
+    bad("trials_total = " + std::to_string(c.trials_total) +
+        " is not global_cycle x free bricks = " + std::to_string(cycles) + " x " + std::to_string(n_free));
   auto real = [&](const char* name, bool positive) {
     const double v = n.real(name);
     if (!std::isfinite(v) || v < 0 || (positive && v == 0))

@@ -211,8 +211,8 @@ double Solver::dissipated() {
   Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
                    m_.n_interfaces);
   interface_dissipation(space_, m_, en);
-  return deterministic_sum(space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces,
-                           KOKKOS_LAMBDA(const int i) { return en(i); });
+  return deterministic_sum(
+      space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces, KOKKOS_LAMBDA(const int i) { return en(i); });
 }
 
 bool Solver::finished() const { return run_.leg >= static_cast<int>(deck_.load.targets().size()); }
@@ -221,8 +221,10 @@ double Solver::path_fraction() const {
   const auto targets = deck_.load.targets();
   double done = 0, prev = 0;
   for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
-    if (k < run_.leg) done += std::abs(targets[k] - prev);
-    else if (k == run_.leg) done += std::abs(D_ - prev);
+    if (k < run_.leg)
+      done += std::abs(targets[k] - prev);
+    else if (k == run_.leg)
+      done += std::abs(D_ - prev);
     prev = targets[k];
   }
   const double total = deck_.load.path_length();

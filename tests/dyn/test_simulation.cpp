@@ -154,7 +154,7 @@ TEST_CASE("dyn: irreversible damage under a load-unload programme: books close, 
   const double est = dyn::build_model(p, st.s, st.f, mo, map).step_estimate;
   p.dt = 0.4 * est;
   const double peak = 0.1;  // mm: the joints ahead of the notch pass x1 (0.0101 mm)
-  const long leg = 3000;     // steps per leg
+  const long leg = 3000;    // steps per leg
   p.rate = peak / (leg * p.dt), p.ramp_time = 0.1 * leg * p.dt;
   p.programme = {peak, 0.0};
   dyn::Simulation sim(p, st.s, st.f, mo);

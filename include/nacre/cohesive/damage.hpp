@@ -94,8 +94,8 @@ KOKKOS_INLINE_FUNCTION double integrate(EnergyTag, const Law& m, const Quadratur
 }
 
 /// \brief End forces (dE/dg0, dE/dg1) of integrate(EnergyTag, ..., kappa) at fixed kappa.
-KOKKOS_INLINE_FUNCTION EndForces integrate(TractionTag, const Law& m, const Quadrature& q, const Gap& g,
-                                           double length, const double* kappa) {
+KOKKOS_INLINE_FUNCTION EndForces integrate(TractionTag, const Law& m, const Quadrature& q, const Gap& g, double length,
+                                           const double* kappa) {
   if (!kappa || intact_elastic(m, g, kappa, q.n)) return integrate(TractionTag{}, m, g, length);
   EndForces f;
   for (int p = 0; p < q.n; ++p) {

@@ -64,8 +64,8 @@ struct InterfaceOp {
   double thickness;
 
   InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
-      : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen), ikind(m.ikind),
-        u(u_), out(out_), hist(m.hist), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
+      : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen),
+        ikind(m.ikind), u(u_), out(out_), hist(m.hist), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
 
   /// Interface i's damage history (one value per quadrature point), or null: the reversible law
   /// (no history in the run, or an internal joint).
@@ -639,8 +639,9 @@ double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<Exec
 template <class ExecutionSpace>
 void update_history(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
   if (!op.hist.data()) return;
-  Kokkos::parallel_for("nacre::dyn::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
-                       KOKKOS_LAMBDA(const int i) { op.update_history(i); });
+  Kokkos::parallel_for(
+      "nacre::dyn::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+      KOKKOS_LAMBDA(const int i) { op.update_history(i); });
 }
 
 /// \brief Damage and state of interfaces [0, n), and where `energy` is allocated (an empty

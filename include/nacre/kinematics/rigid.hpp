@@ -70,9 +70,8 @@ KOKKOS_INLINE_FUNCTION cohesive::Gap interface_gap(const Segment& sg, const Pose
 /// \brief Energy of one interface between rigid bricks in frames a and b.
 /// `kappa` (optional): the interface's history at q's points (cohesive/damage.hpp); null: the
 /// reversible law.
-KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const cohesive::Quadrature& q,
-                                               const Segment& sg, const Frame& a, const Frame& b,
-                                               const double* kappa = nullptr) {
+KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const cohesive::Quadrature& q, const Segment& sg,
+                                               const Frame& a, const Frame& b, const double* kappa = nullptr) {
   return cohesive::integrate(cohesive::EnergyTag{}, m, q, interface_gap(sg, a, b), sg.length, kappa);
 }
 
@@ -87,9 +86,9 @@ KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const coh
 /// dE/dphi = sum_k (fk_x gk_y - fk_y gk_x) (zero for the f(|gap|) part, exactly). The normal
 /// n0 + tm n0_perp is n0 turned by phi = atan(tm), dphi/dtm = 1 / (1 + tm^2), and each brick
 /// owns half of tm.
-KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const cohesive::Quadrature& q,
-                                               const Segment& sg, const Frame& a, const Frame& b, double ga[3],
-                                               double gb[3], const double* kappa = nullptr) {
+KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const cohesive::Quadrature& q, const Segment& sg,
+                                               const Frame& a, const Frame& b, double ga[3], double gb[3],
+                                               const double* kappa = nullptr) {
   const cohesive::Gap g = interface_gap(sg, a, b);
   const cohesive::EndForces f = cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length, kappa);
   const double fx = f.f0x + f.f1x, fy = f.f0y + f.f1y;

@@ -107,14 +107,17 @@ int interface_state(const ExecutionSpace& space, const Model<MemorySpace>& m, Fi
         const cohesive::Gap g = ev.gap(i);
         const double* kappa = ev.history(i);
         if (energy.data())
-          energy(i) = cohesive::integrate(cohesive::EnergyTag{}, law, ev.quad, g, ev.seg(i, col(SegCol::length)), kappa);
+          energy(i) =
+              cohesive::integrate(cohesive::EnergyTag{}, law, ev.quad, g, ev.seg(i, col(SegCol::length)), kappa);
         // with a history, what the joint has been through counts: ruptured for good once every
         // point has seen x1 + x2, softening once any has passed x1
         const double kmin = kappa ? cohesive::min_history(kappa, ev.quad.n) : 0.0;
         const double kmax = kappa ? cohesive::max_history(kappa, ev.quad.n) : 0.0;
         std::int8_t s = 0;
-        if (Kokkos::fmax(cohesive::min_separation(g), kmin) >= law.rupture_distance()) s = 2;
-        else if (Kokkos::fmax(cohesive::max_separation(g), kmax) > law.x1) s = 1;
+        if (Kokkos::fmax(cohesive::min_separation(g), kmin) >= law.rupture_distance())
+          s = 2;
+        else if (Kokkos::fmax(cohesive::max_separation(g), kmax) > law.x1)
+          s = 1;
         if (state.data()) state(i) = s;
         acc += (s == 2);
       },
@@ -136,8 +139,7 @@ int update_history(const ExecutionSpace& space, const Model<MemorySpace>& m) {
   int grew = 0;
   Kokkos::parallel_reduce(
       "nacre::mc::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
-      KOKKOS_LAMBDA(const int i, int& acc) { acc += cohesive::update_history(ev.quad, ev.gap(i), &hist(i, 0)); },
-      grew);
+      KOKKOS_LAMBDA(const int i, int& acc) { acc += cohesive::update_history(ev.quad, ev.gap(i), &hist(i, 0)); }, grew);
   return grew;
 }
 
@@ -334,10 +336,10 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
         if (accept) {
           store_frame(p, b, f_new);
           for (int j = j0; j < j1; ++j)
-            cached[link(j, 1)] =
-                j - j0 < kTrialKeep ? keep[j - j0]
-                                    : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
-                                                  hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
+            cached[link(j, 1)] = j - j0 < kTrialKeep
+                                     ? keep[j - j0]
+                                     : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
+                                                   hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
           acc += 1;
           if (per_brick) bacc(b) += 1;  // one thread per brick: no race
         }
@@ -602,8 +604,9 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
             for (int l = 0; l < W; ++l) {  // not elastic everywhere, or damaged: the general integral, per lane
               const double* kap = hist ? hist + static_cast<std::size_t>(link(js[l], 1)) * nq : nullptr;
               if (general[l] || (on[l] && kap && cohesive::max_history(kap, nq) > laws[skind(js[l])].x1))
-                en[l] = slot_energy(slot, js[l], laws[skind(js[l])], kinematics::Frame{fx[l], fy[l], ft[l], fs[l], fc[l]},
-                                    frame_of(p, link(js[l], 0)), quad, kap);
+                en[l] =
+                    slot_energy(slot, js[l], laws[skind(js[l])], kinematics::Frame{fx[l], fy[l], ft[l], fs[l], fc[l]},
+                                frame_of(p, link(js[l], 0)), quad, kap);
             }
             for (int l = 0; l < W; ++l) {
               e_old[l] = on[l] ? e_old[l] + eo[l] : e_old[l];

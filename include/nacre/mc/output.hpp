@@ -30,8 +30,8 @@ namespace nacre::mc {
 /// \brief The checkpoint as named arrays (solver "mc"); `fingerprint` and `deck_text` identify
 /// the deck that made it, `final_displacement` the end of its loading programme and `legs` the
 /// programme's number of targets (the checkpoint is of a finished run when its leg reached it).
-[[nodiscard]] io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint,
-                                      const std::string& deck_text, double final_displacement, int legs = 1);
+[[nodiscard]] io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, const std::string& deck_text,
+                                      double final_displacement, int legs = 1);
 
 /// \brief Back from named arrays, every value range-checked against a specimen of `n_bricks`
 /// bricks of which `n_free` are free: poses finite, counts non-negative and consistent

@@ -23,9 +23,12 @@ void read_load(Section& top, Deck& d) {
     double prev = 0;
     for (const auto& e : *a) {
       double v;
-      if (auto x = e.value_exact<double>()) v = *x;
-      else if (auto i = e.value_exact<std::int64_t>()) v = static_cast<double>(*i);
-      else l.fail("programme", "an entry is not a number; expected " + expected);
+      if (auto x = e.value_exact<double>())
+        v = *x;
+      else if (auto i = e.value_exact<std::int64_t>())
+        v = static_cast<double>(*i);
+      else
+        l.fail("programme", "an entry is not a number; expected " + expected);
       if (!std::isfinite(v) || v == prev)
         l.fail("programme", "entry " + std::to_string(L.programme.size() + 1) +
                                 " is not finite or repeats the displacement before it (0 at the start); expected " +
@@ -34,7 +37,8 @@ void read_load(Section& top, Deck& d) {
       prev = v;
     }
     if (l.find("final_displacement", {}))
-      l.fail("final_displacement", "given with programme; expected one of them (the programme ends at its last target)");
+      l.fail("final_displacement",
+             "given with programme; expected one of them (the programme ends at its last target)");
     L.final_displacement = L.programme.back();
   } else {
     l.number("final_displacement", {}, L.final_displacement, positive, "a positive displacement", true);
