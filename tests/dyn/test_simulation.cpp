@@ -148,7 +148,9 @@ TEST_CASE("dyn: irreversible damage under a load-unload programme: books close, 
   const auto st = make(wall(4, 6, 1.0));  // notched: the joints ahead of the notch pass x1
   deck::Mortar mo = mortar();
   mo.damage = cohesive::Damage::irreversible, mo.damage_auto = false;
-  auto p = loaded(dyn::Method::be);
+  for (const auto method : {dyn::Method::be, dyn::Method::bie}) {
+  CAPTURE(int(method));
+  auto p = loaded(method);
   p.dt = 1.0;  // only for the estimate
   dyn::HostMap map;
   const double est = dyn::build_model(p, st.s, st.f, mo, map).step_estimate;
@@ -196,4 +198,5 @@ TEST_CASE("dyn: irreversible damage under a load-unload programme: books close, 
   no_history.erase("history");
   dyn::Simulation c(p, st.s, st.f, mo);
   CHECK_THROWS(c.restore_state(no_history));
+  }
 }
