@@ -1,10 +1,11 @@
 // The generator interface and Philox.
 #include <nacre/rng/philox.hpp>
-#include <nacre/rng/uniform_source.hpp>
+#include <nacre/rng/registry.hpp>
 
 #include <catch2/catch_test_macros.hpp>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #if __has_include(<Random123/philox.h>)
@@ -119,4 +120,16 @@ TEST_CASE("Philox uniforms: mean, variance and lag-1 correlation", "[rng]") {
   CHECK(std::abs(m - 0.5) < 5 * std::sqrt(1.0 / 12 / n));
   CHECK(std::abs(q - 1.0 / 12) < 0.005);
   CHECK(std::abs(c) < 5 / std::sqrt(n));
+}
+
+TEST_CASE("every generator a deck may name is made by the registry, under its own name", "[rng]") {
+  for (const auto kind : rng::kGeneratorKinds) {
+    CAPTURE(kind);
+    CHECK(rng::is_uniform_source_kind(kind));
+    const auto src = rng::make_uniform_source(kind, 1);
+    REQUIRE(src);
+    CHECK(src->name() == kind);
+  }
+  CHECK(!rng::is_uniform_source_kind("mersenne"));
+  CHECK_THROWS_AS(rng::make_uniform_source("mersenne", 1), std::invalid_argument);
 }

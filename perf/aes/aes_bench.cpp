@@ -15,7 +15,7 @@
 // take); kind = rng: random doubles per second.
 #include <nacre/aes/aes128.hpp>
 #include <nacre/aes/aes_sources.hpp>
-#include <nacre/rng/uniform_source.hpp>
+#include <nacre/rng/registry.hpp>
 
 #include <Random123/philox.h>
 #ifdef NACRE_HAVE_OPENSSL  // absent in the GPU runbook's bare build: --mode=openssl says so

@@ -93,15 +93,27 @@ def r_curve(out, rows):
     ax.set_xlabel("crack extension (along the ligament)")
     ax.set_ylabel("G_R (energy per unit crack area)")
     ax.set_ylim(bottom=0)
-    ax.set_title(f"R-curve: toughening ratio {ratio:.3g}\n(mean G_R over the second half of the extension / k x1 x2)", fontsize=10)
+    said = f"{ratio:.3g}" if ratio == ratio else "n/a (the crack grew at fewer than 2 rows)"
+    ax.set_title(f"R-curve: toughening ratio {said}\n(mean G_R over the second half of the extension / k x1 x2)", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()
     save_png(fig, os.path.join(out, "r_curve.png"), dpi=120)
     plt.close(fig)
     if "--quiet" not in sys.argv:
         print(f"crack: extension {crack.get('extension', 0):.4g} to tip x = {crack.get('tip_x', 0):.4g}, "
-              f"deflection {crack.get('deflection', 0):.3f}, toughening ratio {ratio:.3g} (r_curve.csv)")
+              f"deflection {crack.get('deflection', 0):.3f}, toughening ratio {said} (r_curve.csv)")
     return ratio
+
+
+def path_legs(D):
+    """Index ranges [i0, i1] of the monotonic legs of a load path D (one leg for a monotonic run)."""
+    legs, i0 = [], 0
+    for i in range(1, len(D) - 1):
+        if (D[i] - D[i - 1]) * (D[i + 1] - D[i]) < 0:
+            legs.append((i0, i))
+            i0 = i
+    legs.append((i0, len(D) - 1))
+    return legs
 
 
 def draw_crack(ax, ipts, iref, on_crack):
@@ -126,14 +138,24 @@ def main(out):
     F = np.array([0.0] + [float(r["reaction"]) for r in rows])
     R = np.array([0] + [int(r["ruptured"]) for r in rows])
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
-    ax[0].plot(D, E, "o-", ms=3, label="Monte Carlo")
+    # a load programme ([load] programme) turns back: one curve per leg, so the loop reads
+    legs = path_legs(D)
+    for k, (i0, i1) in enumerate(legs):
+        tag = "Monte Carlo" if len(legs) == 1 else (("load" if D[i1] > D[i0] else "unload") + f" to {D[i1]:g}")
+        ax[0].plot(D[i0:i1 + 1], E[i0:i1 + 1], "o-", ms=3, color=f"C{k}", label=tag)
+        ax[1].plot(D[i0:i1 + 1], F[i0:i1 + 1], "o-", ms=3, color=f"C{k}" if len(legs) > 1 else "C1", label=tag)
     # quadratic fit through the first steps shows where the response leaves linear elasticity
     c = quadratic_fit(D, E)
-    ax[0].plot(D, c * D ** 2, "--", color="gray", label="quadratic (initial fit)")
+    D1 = D[:legs[0][1] + 1]
+    ax[0].plot(D1, c * D1 ** 2, "--", color="gray", label="quadratic (initial fit)")
+    if run.summary.get("damage") == "irreversible" and "fracture_energy" in rows[0]:
+        W = np.array([0.0] + [float(r["fracture_energy"]) for r in rows])
+        ax[0].plot(D, W, ":", color="k", label="dissipated (irreversible damage)")
     ax[0].set_xlabel("applied displacement D")
     ax[0].set_ylabel("total energy")
     ax[0].legend()
-    ax[1].plot(D, F, "o-", ms=3, color="C1")
+    if len(legs) > 1:
+        ax[1].legend(loc="upper left", fontsize=8)
     ax[1].set_xlabel("applied displacement D")
     ax[1].set_ylabel("reaction force dE/dD")
     a2 = ax[1].twinx()

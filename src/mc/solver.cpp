@@ -1,4 +1,5 @@
 #include <nacre/mc/solver.hpp>
+#include <nacre/rng/registry.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // streams and of the batch, thread-count independence, and a statistical smoke test.
 #include <nacre/aes/aes128.hpp>
 #include <nacre/aes/aes_sources.hpp>
-#include <nacre/rng/uniform_source.hpp>
+#include <nacre/rng/registry.hpp>
 
 #include <catch2/catch_test_macros.hpp>
 #include <openssl/evp.h>

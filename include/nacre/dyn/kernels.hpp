@@ -15,6 +15,7 @@
 /// penetration penalty is degree 6 (exact with 4); where a branch point of the law falls inside
 /// the segment the density is C1 and the rule converges like n^-2 (tests/dyn measures it).
 /// Energy and force come from the same points, so force = -dE/dp holds to rounding.
+#include <nacre/core/assert.hpp>
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/dyn/model.hpp>
 
@@ -559,6 +560,7 @@ void verlet_step(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSp
 /// \brief Interface forces only (into op.out), e.g. for finite-difference tests.
 template <class ExecutionSpace>
 void interface_forces(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
+  NACRE_ASSERT(op.out.extent(0) >= std::size_t(n_iface), "interface_forces: a force row per interface");
   Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
                        op);
 }
@@ -639,6 +641,8 @@ double max_penetration(const ExecutionSpace& space, const InterfaceOp<MemOf<Exec
 template <class ExecutionSpace>
 void update_history(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
   if (!op.hist.data()) return;
+  NACRE_ASSERT(op.hist.extent(0) >= std::size_t(n) && op.hist.extent(1) == std::size_t(op.quad.n),
+               "update_history: a history row of quad.n values per bed/head interface");
   Kokkos::parallel_for(
       "nacre::dyn::update_history", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
       KOKKOS_LAMBDA(const int i) { op.update_history(i); });
@@ -652,6 +656,9 @@ void interface_damage(const ExecutionSpace& space, const InterfaceOp<MemOf<Execu
                       const Kokkos::View<double*, MemOf<ExecutionSpace>>& dmg,
                       const Kokkos::View<int*, MemOf<ExecutionSpace>>& state,
                       const Kokkos::View<double*, MemOf<ExecutionSpace>>& energy = {}) {
+  NACRE_ASSERT(dmg.extent(0) >= std::size_t(n) && state.extent(0) >= std::size_t(n) &&
+                   (!energy.data() || energy.extent(0) >= std::size_t(n)),
+               "interface_damage: a value per interface in every output");
   Kokkos::parallel_for("nacre::dyn::damage", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
                        KOKKOS_LAMBDA(const int i) {
                          double d;

@@ -5,11 +5,14 @@
 /// (f(space, ...), ArborX style); the model's Views must be accessible from it (checked at
 /// compile time). The overloads without a space run on a default-constructed instance of the
 /// default execution space.
+#include <nacre/core/assert.hpp>
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/loading/pattern.hpp>
 #include <nacre/mc/model.hpp>
 #include <nacre/rng/uniform_source.hpp>
+
+#include <type_traits>
 
 #if defined(__AVX512F__) && !defined(__CUDA_ARCH__)
 #include <immintrin.h>  // the batched sweep's row transpose (detail::transpose_rows)
@@ -79,6 +82,7 @@ double total_energy(const ExecutionSpace& space, const Model<MemorySpace>& m, Su
 template <class ExecutionSpace, class MemorySpace>
 void brick_energy(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> full) {
   check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(full.extent(0) >= std::size_t(m.n_bricks), "brick_energy: a value per brick");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
   const InterfaceEvaluator<MemorySpace> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface;
@@ -133,6 +137,8 @@ template <class ExecutionSpace, class MemorySpace>
 int update_history(const ExecutionSpace& space, const Model<MemorySpace>& m) {
   check_access<ExecutionSpace, MemorySpace>();
   if (!m.hist.data()) return 0;
+  NACRE_ASSERT(m.hist.extent(0) == std::size_t(m.n_interfaces) && m.hist.extent(1) == std::size_t(m.quad.n),
+               "update_history: a history row of quad.n values per interface");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::history");
   const InterfaceEvaluator<MemorySpace> ev(m);
   auto hist = m.hist;
@@ -148,6 +154,7 @@ int update_history(const ExecutionSpace& space, const Model<MemorySpace>& m) {
 template <class ExecutionSpace, class MemorySpace>
 void interface_dissipation(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> out) {
   check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(out.extent(0) >= std::size_t(m.n_interfaces), "interface_dissipation: a value per interface");
   const InterfaceEvaluator<MemorySpace> ev(m);
   Kokkos::parallel_for(
       "nacre::mc::interface_dissipation", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
@@ -190,6 +197,7 @@ struct BrickSteps {
 template <class ExecutionSpace, class MemorySpace>
 void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache) {
   check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(cache.extent(0) >= std::size_t(m.n_interfaces), "interface_energies: a cache entry per interface");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
   auto p = m.pose;
   auto ends = m.ends;
@@ -239,8 +247,8 @@ struct Rows {
 template <int N, class V>
 Rows<typename V::value_type, N> rows_of(const V& v) {
   static_assert(V::rank == 2, "nacre::mc::detail::rows_of: a rank-2 View");
-  if (v.extent(0) > 0 && (v.extent(1) != std::size_t(N) || v.stride(0) != std::size_t(N) || v.stride(1) != 1))
-    Kokkos::abort("nacre::mc::detail::rows_of: the View is not N unpadded values per row");
+  NACRE_ASSERT(v.extent(0) == 0 || (v.extent(1) == std::size_t(N) && v.stride(0) == std::size_t(N) && v.stride(1) == 1),
+               "rows_of: a View of N unpadded values per row");
   return {v.data()};
 }
 }  // namespace detail
@@ -288,11 +296,20 @@ struct BatchedTrials {};
 /// order, so e_old has the bits of a recomputation at the current poses.
 /// de(b) receives the accepted energy change (0 when rejected); the count of accepted trials is
 /// returned (an integer reduction, exact for any thread count).
-template <class ExecutionSpace, class MemorySpace, class Uniforms>
-long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
-                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
-                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+/// PerBrick (a variant, not a run-time flag inside the kernel): step sizes per brick
+/// (BrickSteps active) or the global ones; sweep_colour(ScalarTrials, ...) picks it once.
+template <bool PerBrick, class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(ScalarTrials, std::bool_constant<PerBrick>, const ExecutionSpace& space, const Model<MemorySpace>& m,
+                  int begin, int end, const Uniforms& uniforms, Field<double, MemorySpace> cache,
+                  Field<double, MemorySpace> de, double step, double rot_step, double temperature,
+                  const BrickSteps<MemorySpace>& brick_steps) {
   check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(cache.extent(0) >= std::size_t(m.n_interfaces), "sweep_colour: an energy cache entry per interface");
+  NACRE_ASSERT(de.extent(0) >= std::size_t(m.n_free), "sweep_colour: an energy change per free brick");
+  NACRE_ASSERT(!m.hist.data() || m.hist.extent(1) == std::size_t(m.quad.n),
+               "sweep_colour: a damage history of one value per quadrature point");
+  NACRE_ASSERT(!brick_steps.active() || brick_steps.step.extent(0) >= std::size_t(m.n_free),
+               "sweep_colour: per-brick steps for every free brick");
   const auto p = detail::rows_of<5>(m.pose);
   const int* const off = m.adj_offset.data();
   const auto slot = detail::rows_of<col(SlotCol::count)>(m.slot);
@@ -306,7 +323,6 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
   double* const hist = m.hist.data();  // rows of quad.n values (LayoutRight), or null
   const int nq = m.quad.n;
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
-  const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
   auto bacc = brick_steps.accepted;
   long accepted = 0;
@@ -317,7 +333,7 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
         const kinematics::Frame f_old = frame_of(p, b);
         double u[4];
         uniforms(b, u);
-        const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
+        const double s = PerBrick ? bstep(b, 0) : step, sr = PerBrick ? bstep(b, 1) : rot_step;
         const kinematics::Pose trial{f_old.x + s * (2.0 * u[0] - 1.0), f_old.y + s * (2.0 * u[1] - 1.0),
                                      f_old.t + sr * (2.0 * u[2] - 1.0)};
         const kinematics::Frame f_new = kinematics::make_frame(trial);
@@ -341,13 +357,24 @@ long sweep_colour(ScalarTrials, const ExecutionSpace& space, const Model<MemoryS
                                      : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
                                                    hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
           acc += 1;
-          if (per_brick) bacc(b) += 1;  // one thread per brick: no race
+          if (PerBrick) bacc(b) += 1;  // one thread per brick: no race (plain if: nvcc lambdas may not capture in if constexpr)
         }
         dE[b] = accept ? d : 0.0;
        }
       },
       accepted);
   return accepted;
+}
+
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(ScalarTrials t, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+  if (brick_steps.active())
+    return sweep_colour(t, std::true_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                        brick_steps);
+  return sweep_colour(t, std::false_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                      brick_steps);
 }
 
 /// Marks a loop over the lanes of BatchedTrials for vectorisation (OpenMP's simd where the host
@@ -441,10 +468,11 @@ inline void prefetch(const void* p) {
 /// interfaces, three colourings, global and per-brick steps). Host only (a plain lambda and
 /// host intrinsics); measured slower than ScalarTrials at 300k bricks on the CPU it was written
 /// on, so the solver uses it only with NACRE_MC_BATCHED (perf/README.md, "Batched trials").
-template <class ExecutionSpace, class MemorySpace, class Uniforms>
-long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
-                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
-                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+template <bool PerBrick, class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(BatchedTrials, std::bool_constant<PerBrick>, const ExecutionSpace& space, const Model<MemorySpace>& m,
+                  int begin, int end, const Uniforms& uniforms, Field<double, MemorySpace> cache,
+                  Field<double, MemorySpace> de, double step, double rot_step, double temperature,
+                  const BrickSteps<MemorySpace>& brick_steps) {
   check_access<ExecutionSpace, MemorySpace>();
   static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, Kokkos::HostSpace>::accessible,
                 "nacre::mc: the batched sweep is a host schedule (devices take ScalarTrials)");
@@ -461,7 +489,6 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
   const int nq = m.quad.n;
   const detail::LaneLaws ll = detail::lane_laws(laws);
   const double inv_t = temperature > 0 ? 1.0 / temperature : 0.0;
-  const bool per_brick = brick_steps.active();
   auto bstep = brick_steps.step;
   auto bacc = brick_steps.accepted;
   // raw pointers for the lane loops, with the unpadded LayoutRight row lengths as constants (a
@@ -529,7 +556,7 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
           for (int l = 0; l < W; ++l) {
             const int b = bl[l];
             const kinematics::Frame f_old = frame_of(p, b);
-            const double s = per_brick ? bstep(b, 0) : step, sr = per_brick ? bstep(b, 1) : rot_step;
+            const double s = PerBrick ? bstep(b, 0) : step, sr = PerBrick ? bstep(b, 1) : rot_step;
             const kinematics::Pose trial{f_old.x + s * (2.0 * uu[0][l] - 1.0), f_old.y + s * (2.0 * uu[1][l] - 1.0),
                                          f_old.t + sr * (2.0 * uu[2][l] - 1.0)};
             const kinematics::Frame f = kinematics::make_frame(trial);
@@ -630,7 +657,7 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
                         : slot_energy(slot, j, laws[skind(j)], f_new, frame_of(p, link(j, 0)), quad,
                                       hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
               acc += 1;
-              if (per_brick) bacc(b) += 1;
+              if (PerBrick) bacc(b) += 1;
             }
             de(b) = accept ? d : 0.0;
           }
@@ -638,6 +665,17 @@ long sweep_colour(BatchedTrials, const ExecutionSpace& space, const Model<Memory
       },
       accepted);
   return accepted;
+}
+
+template <class ExecutionSpace, class MemorySpace, class Uniforms>
+long sweep_colour(BatchedTrials t, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
+                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
+  if (brick_steps.active())
+    return sweep_colour(t, std::true_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                        brick_steps);
+  return sweep_colour(t, std::false_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
+                      brick_steps);
 }
 
 /// \brief The sweep as the solver runs it: ScalarTrials, or with NACRE_MC_BATCHED=ON BatchedTrials

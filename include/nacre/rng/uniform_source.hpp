@@ -67,13 +67,8 @@ public:
   void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) { fill(ExecSpace{}, draw, streams, u); }
 };
 
-/// \brief Generators selectable in a deck (solver.rng).
-[[nodiscard]] std::unique_ptr<UniformSource> make_uniform_source(std::string_view kind,
-                                                                 std::uint64_t seed);
-/// \brief True when `kind` names a generator make_uniform_source knows.
-[[nodiscard]] bool is_uniform_source_kind(std::string_view kind);
-/// \brief Comma-separated list of the generator names (for error messages and docs).
-[[nodiscard]] std::string uniform_source_kinds();
+/// (The generators a deck can name, Philox and the AES ones, are listed by rng/registry.hpp: this
+/// header knows no generator family but its own.)
 
 /// \brief Philox4x32-10: key = seed, counter = (stream, 2*draw + half); each 128-bit block gives
 /// two doubles from its two 64-bit halves.

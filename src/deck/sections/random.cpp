@@ -1,7 +1,7 @@
 // [random]: seed and generator of the reproducible random streams.
 #include "../section.hpp"
 
-#include <nacre/rng/uniform_source.hpp>
+#include <nacre/rng/kinds.hpp>
 
 #include <limits>
 
