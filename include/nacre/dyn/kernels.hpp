@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// \brief Device kernels of the explicit integrators (eq. 4.4, UE and BE share them): the
-/// cohesive interface operator (energy, forces, damage from one quadrature loop) and the
+/// cohesive interface operator (energy, forces and damage from the cohesive integral) and the
 /// integrator (initial_integrate / final_integrate; the interface force sits between them).
 ///
 /// Why no atomics: the interface kernel writes the 8 nodal force components of each interface
@@ -9,12 +9,12 @@
 /// interfaces from a CSR list in increasing interface order. Every sum has a fixed order, so
 /// the result is bit-identical for any thread count or backend schedule.
 ///
-/// Why one quadrature loop: the cohesive law is integrated along the shared segment by n-point
-/// Gauss-Legendre (n = 4, Model::quad). The jump is linear along the segment (each side is a CST
-/// edge), so in the elastic range the density is quadratic (exact with 2 points) and the
-/// penetration penalty is degree 6 (exact with 4); where a branch point of the law falls inside
-/// the segment the density is C1 and the rule converges like n^-2 (tests/dyn measures it).
-/// Energy and force come from the same points, so force = -dE/dp holds to rounding.
+/// Why one law integral: the jump is linear along the shared segment (each side is a straight
+/// edge), exactly as between rigid bricks, so the interface calls the cohesive folder's integral
+/// (cohesive::integrate: exact piece by piece for the law, segment.hpp; Gauss-Legendre with a
+/// history per point once a joint is damaged, damage.hpp) that the Monte Carlo solver uses: one
+/// integral of one law, its energy and forces from the same pieces (force = -dE/dp to rounding).
+#include <nacre/cohesive/damage.hpp>
 #include <nacre/core/assert.hpp>
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/dyn/model.hpp>
@@ -96,83 +96,53 @@ struct InterfaceOp {
     dt = -dx * ny + dy * nx;  // tangent (-ny, nx)
   }
 
-  /// Energy of interface i (kEnergy) and/or the nodal forces f = -dE/dq (kForce), from the same
-  /// quadrature points; the time step needs only the forces, the books only the energy.
+  /// The jump at the segment's two ends (side b minus side a, global frame) and the interface's
+  /// unit normal: the gap cohesive::integrate takes. The jump is linear along the segment (each
+  /// side is a straight edge with linear shape functions), so these two ends define it.
+  KOKKOS_INLINE_FUNCTION cohesive::Gap gap(int i, const double q[8]) const {
+    const int sh = ishape(i);
+    const double xa0 = ixi(sh, 0), xa1 = ixi(sh, 1), xb0 = ixi(sh, 2), xb1 = ixi(sh, 3);
+    return cohesive::Gap{(1 - xb0) * q[4] + xb0 * q[6] - (1 - xa0) * q[0] - xa0 * q[2],
+                         (1 - xb0) * q[5] + xb0 * q[7] - (1 - xa0) * q[1] - xa0 * q[3],
+                         (1 - xb1) * q[4] + xb1 * q[6] - (1 - xa1) * q[0] - xa1 * q[2],
+                         (1 - xb1) * q[5] + xb1 * q[7] - (1 - xa1) * q[1] - xa1 * q[3],
+                         inx(sh),
+                         iny(sh)};
+  }
+
+  /// Energy of interface i (kEnergy) and/or the nodal forces f = -dE/dq (kForce): the law's one
+  /// integral along the segment, cohesive::integrate (exact for the law alone, segment.hpp; the
+  /// Gauss rule with one history value per point for a damaged joint, damage.hpp), the same the
+  /// rigid-brick solver uses. Forces: the end forces dE/dg0, dE/dg1 taken by each edge node with
+  /// its shape function's values at the two segment ends (the consistent nodal forces of a
+  /// linear jump); the time step needs only the forces, the books only the energy.
   template <bool kEnergy, bool kForce>
   KOKKOS_INLINE_FUNCTION double integrate(int i, double* f) const {
     double q[8];
     load(i, q);
-    const cohesive::Law& m = laws[ikind(ishape(i))];
-    const double lt = ilen(ishape(i)) * thickness, nx = inx(ishape(i)), ny = iny(ishape(i));
+    const int sh = ishape(i);
+    const cohesive::Law& m = laws[ikind(sh)];
+    const double lt = ilen(sh) * thickness;
+    const cohesive::Gap g = gap(i, q);
     const double* kappa = history(i);
     double e = 0;
-    if constexpr (kForce)
-      for (int k = 0; k < 8; ++k) f[k] = 0;
-    for (int p = 0; p < quad.n; ++p) {
-      double dn, dt, xa, xb;
-      jump(i, q, quad.s[p], dn, dt, xa, xb);
-      const double wl = quad.w[p] * lt;
-      // with a history: psi(d; kappa) + g(dn) (cohesive/damage.hpp), the penalty unchanged
-      const double d = kappa ? Kokkos::sqrt(dn * dn + dt * dt) : 0.0;
-      if constexpr (kEnergy)
-        e += wl * (kappa ? cohesive::damaged_energy(m, d, kappa[p]) + cohesive::g_energy(m, dn)
-                         : m(cohesive::EnergyTag{}, dn, dt));
-      if constexpr (kForce) {
-        double fn, ft;
-        if (kappa) {
-          const double r = cohesive::damaged_ratio(m, d, kappa[p]);
-          fn = r * dn + cohesive::g_slope(m, dn), ft = r * dt;
-        } else {
-          m(cohesive::TractionTag{}, dn, dt, fn, ft);
-        }
-        const double tx = wl * (fn * nx - ft * ny), ty = wl * (fn * ny + ft * nx);  // dE/d(jump)
-        f[0] += (1 - xa) * tx, f[1] += (1 - xa) * ty, f[2] += xa * tx, f[3] += xa * ty;
-        f[4] -= (1 - xb) * tx, f[5] -= (1 - xb) * ty, f[6] -= xb * tx, f[7] -= xb * ty;
-      }
+    if constexpr (kEnergy) e = cohesive::integrate(cohesive::EnergyTag{}, m, quad, g, lt, kappa);
+    if constexpr (kForce) {
+      const cohesive::EndForces F = cohesive::integrate(cohesive::TractionTag{}, m, quad, g, lt, kappa);
+      const double xa0 = ixi(sh, 0), xa1 = ixi(sh, 1), xb0 = ixi(sh, 2), xb1 = ixi(sh, 3);
+      f[0] = (1 - xa0) * F.f0x + (1 - xa1) * F.f1x, f[1] = (1 - xa0) * F.f0y + (1 - xa1) * F.f1y;
+      f[2] = xa0 * F.f0x + xa1 * F.f1x, f[3] = xa0 * F.f0y + xa1 * F.f1y;
+      f[4] = -((1 - xb0) * F.f0x + (1 - xb1) * F.f1x), f[5] = -((1 - xb0) * F.f0y + (1 - xb1) * F.f1y);
+      f[6] = -(xb0 * F.f0x + xb1 * F.f1x), f[7] = -(xb0 * F.f0y + xb1 * F.f1y);
     }
     return e;
   }
 
   KOKKOS_INLINE_FUNCTION double energy(int i) const { return integrate<true, false>(i, nullptr); }
 
-  /// Forces of interface i when the whole segment is elastic and open: |jump|^2 is convex in s
-  /// and dn linear, so both ends inside the elastic disc with dn >= 0 put every point there. The
-  /// traction is then k (dn, dt) in the interface's frame, which is k times the jump vector G in
-  /// any frame (a rotation): no turn into the normal frame and back. With G linear from G0 to G1
-  /// the consistent end forces are k L t (2 G0 + G1) / 6 and k L t (G0 + 2 G1) / 6 (the exact
-  /// integrals against 1 - s and s, as the n >= 2 point Gauss rule gives them), and each edge
-  /// node takes them with its shape function's values at the two segment ends. About 70 flops,
-  /// half of the 3-point form this replaced, and no branch per point. Returns false (f untouched)
-  /// otherwise.
-  KOKKOS_INLINE_FUNCTION bool elastic_force(int i, double* f) const {
-    double q[8];
-    load(i, q);
-    const int sh = ishape(i);
-    const cohesive::Law& m = laws[ikind(sh)];
-    const double xa0 = ixi(sh, 0), xa1 = ixi(sh, 1), xb0 = ixi(sh, 2), xb1 = ixi(sh, 3);
-    const double g0x = (1 - xb0) * q[4] + xb0 * q[6] - (1 - xa0) * q[0] - xa0 * q[2];
-    const double g0y = (1 - xb0) * q[5] + xb0 * q[7] - (1 - xa0) * q[1] - xa0 * q[3];
-    const double g1x = (1 - xb1) * q[4] + xb1 * q[6] - (1 - xa1) * q[0] - xa1 * q[2];
-    const double g1y = (1 - xb1) * q[5] + xb1 * q[7] - (1 - xa1) * q[1] - xa1 * q[3];
-    const double nx = inx(sh), ny = iny(sh), x1sq = m.x1 * m.x1;
-    if (const double* kappa = history(i); kappa && cohesive::max_history(kappa, quad.n) > m.x1)
-      return false;  // damaged: unloading is along the secant, not k
-    if (!(g0x * nx + g0y * ny >= 0.0 && g1x * nx + g1y * ny >= 0.0 && g0x * g0x + g0y * g0y <= x1sq &&
-          g1x * g1x + g1y * g1y <= x1sq))
-      return false;
-    const double c = ilen(sh) * thickness * m.k * (1.0 / 6.0);
-    const double f0x = c * (2.0 * g0x + g1x), f0y = c * (2.0 * g0y + g1y);  // dE/dG at s = 0
-    const double f1x = c * (g0x + 2.0 * g1x), f1y = c * (g0y + 2.0 * g1y);  // ... at s = 1
-    f[0] = (1 - xa0) * f0x + (1 - xa1) * f1x, f[1] = (1 - xa0) * f0y + (1 - xa1) * f1y;
-    f[2] = xa0 * f0x + xa1 * f1x, f[3] = xa0 * f0y + xa1 * f1y;
-    f[4] = -((1 - xb0) * f0x + (1 - xb1) * f1x), f[5] = -((1 - xb0) * f0y + (1 - xb1) * f1y);
-    f[6] = -(xb0 * f0x + xb1 * f1x), f[7] = -(xb0 * f0y + xb1 * f1y);
-    return true;
-  }
-
   KOKKOS_INLINE_FUNCTION void operator()(ForceTag, int i) const {
     double f[8];
-    if (!(quad.n >= 2 && elastic_force(i, f))) integrate<false, true>(i, f);
+    integrate<false, true>(i, f);
     for (int k = 0; k < 8; ++k) out(i, k) = f[k];
   }
 
@@ -196,11 +166,7 @@ struct InterfaceOp {
     if (!kappa) return;
     double q[8];
     load(i, q);
-    for (int p = 0; p < quad.n; ++p) {
-      double dn, dt, xa, xb;
-      jump(i, q, quad.s[p], dn, dt, xa, xb);
-      kappa[p] = Kokkos::max(kappa[p], Kokkos::sqrt(dn * dn + dt * dt));
-    }
+    cohesive::update_history(quad, gap(i, q), kappa);
   }
 
   /// Energy interface i has dissipated by damage (0 without a history).
@@ -211,21 +177,20 @@ struct InterfaceOp {
   }
 
   /// Damage 0 (elastic) .. 1 (ruptured) = clamp((d_max - x1) / x2); state 0 elastic,
-  /// 1 beyond x1 somewhere, 2 ruptured at every quadrature point (with a history, d is the
-  /// largest separation the point has seen).
+  /// 1 beyond x1 somewhere, 2 ruptured along the whole segment (with a history: or at every one
+  /// of its points, which have seen their largest separation).
   KOKKOS_INLINE_FUNCTION void damage(int i, double& dmg, int& state) const {
     double q[8];
     load(i, q);
     const cohesive::Law& m = laws[ikind(ishape(i))];
     const double* kappa = history(i);
-    double dmax = 0, dmin = 1e300;
-    for (int p = 0; p < quad.n; ++p) {
-      double dn, dt, xa, xb;
-      jump(i, q, quad.s[p], dn, dt, xa, xb);
-      double d = Kokkos::sqrt(dn * dn + dt * dt);
-      if (kappa) d = Kokkos::max(d, kappa[p]);  // what the point has been through
-      dmax = Kokkos::max(dmax, d), dmin = Kokkos::min(dmin, d);
-    }
+    // exact along the segment (cohesive::min_separation / max_separation, as the rigid solver);
+    // with a history, what the joint's points have been through
+    const cohesive::Gap g = gap(i, q);
+    double dmax = cohesive::max_separation(g), dmin = cohesive::min_separation(g);
+    if (kappa)
+      dmax = Kokkos::max(dmax, cohesive::max_history(kappa, quad.n)),
+      dmin = Kokkos::max(dmin, cohesive::min_history(kappa, quad.n));
     dmg = Kokkos::min(1.0, Kokkos::max(0.0, (dmax - m.x1) / m.x2));
     state = dmin >= m.rupture_distance() ? 2 : (dmax > m.x1 ? 1 : 0);
   }
