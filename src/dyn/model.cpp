@@ -89,38 +89,57 @@ void step_tables(Model<>& m, const KH& K, const MH& M, const NH& N, const AH& A)
 }
 }  // namespace
 
-Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const deck::Mortar& mortar, HostMap& map) {
-  Kokkos::Profiling::ScopedRegion region("nacre::dyn::build_model");
-  if (!(p.dt > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
-  if (!(p.youngs_modulus > 0) || !(p.density > 0) || !(p.thickness > 0) || !(p.poisson > -1 && p.poisson < 0.5))
-    throw std::invalid_argument("dyn: need E > 0, rho > 0, thickness > 0, -1 < nu < 0.5");
-  const bool ue = p.method == Method::ue;
-  const Material mat{p.youngs_modulus, p.poisson, p.density, p.thickness};
-  const int nb = static_cast<int>(s.size());
-  Model<> m;
-  m.h = p.dt, m.alpha = p.alpha_d, m.beta = p.beta_d, m.thickness = p.thickness, m.eps_th = p.thermal_strain;
-  m.pattern = loading::Pattern{p.tension, p.bending, s.width > 0 ? s.width : 1.0};
-  m.top_prescribed = p.force_top == 0.0;
-  m.brick_height = whole_brick_height(s);
-  if (p.quadrature_points < 1 || p.quadrature_points > 8)
-    throw std::invalid_argument("dyn: quadrature_points must be 1..8");
-  m.quad = cohesive::gauss_legendre(p.quadrature_points);
-  // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),
-  // so they tie the triangles as in §4.4 and cannot rupture.
-  m.laws = cohesive::make_law_table(
-      mortar.bed, mortar.head, cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
+namespace {
 
-  // ---- elements and their types
+// An interface between two element edges (build_model's interface stage).
+struct Rec {
+  Side a, b;
+  double nx, ny, len;
+  std::uint8_t kind;
+};
+
+/// What build_model's stages share: the inputs, the model and host map being filled, and the
+/// host tables one stage leaves for the next. Each stage is a function of its own (a stage
+/// reads only the members named at its top).
+struct Build {
+  const Params& p;
+  const geometry::Specimen& s;
+  const geometry::Interfaces& f;
+  const deck::Mortar& mortar;
+  HostMap& map;
+  Model<>& m;
+  bool ue;
+  Material mat;
+  int nb;
+  std::vector<ElementMatrices> types;          ///< element types (shared matrices)
+  std::vector<std::vector<double>> poly_x, poly_y;  ///< brick polygons about their centroids
+  int ne = 0, nt = 0, nd = 0;                  ///< elements, types, dofs per element
+  std::vector<double> lam_t;                   ///< largest eigenvalue of M_e^-1 K_e per type
+  std::vector<Rec> rec;                        ///< interfaces, in the model's order
+  std::vector<int> goff;                       ///< gather-list offsets per element
+};
+
+/// Elements and their types: one bolted element per brick (BE, BIE) or a fan of triangles (UE),
+/// equal shapes sharing one type.
+void add_elements(Build& B) {
+  const Params& p = B.p;
+  const geometry::Specimen& s = B.s;
+  HostMap& map = B.map;
+  Model<>& m = B.m;
+  const bool ue = B.ue;
+  const Material& mat = B.mat;
+  const int nb = B.nb;
   const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300));
   // element shape: node count, then the rounded node coordinates (unused slots zero)
   KeyMap<1 + 2 * kMaxNodes> type_of_shape;
   type_of_shape.reserve(64);
-  std::vector<ElementMatrices> types;
+  auto& types = B.types;
   map = HostMap{};
   map.brick_elem.assign(1, 0);
   map.cx = s.cx, map.cy = s.cy;
-  std::vector<std::vector<double>> poly_x(nb), poly_y(nb);
+  auto& poly_x = B.poly_x;
+  auto& poly_y = B.poly_y;
+  poly_x.assign(nb, {}), poly_y.assign(nb, {});
   auto add_element = [&](int brick, const ElementMatrices& e) {
     int t;
     if (p.share_element_matrices) {
@@ -168,16 +187,25 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   for (const auto& e : types) max_nodes = std::max(max_nodes, e.nodes);
   const int nd = 2 * max_nodes;
   m.n_elem = ne, m.nd = nd, m.n_types = nt;
+  B.ne = ne, B.nt = nt, B.nd = nd;
+}
 
-  // ---- slivers (docs/dynamics.md "Slivers"): selective mass scaling of the element types whose
-  // largest eigenvalue of M_e^-1 K_e exceeds the median free element's by more than
-  // 1 / sliver_step_ratio^2 (a clipped sliver, or a whole brick with a near-degenerate fan
-  // triangle where the clip cut a corner by a hair). The nodes that carry the offending mode get
-  // heavier until the element's step bound is sliver_step_ratio times the median element's:
-  // one element no longer sets the step of the whole specimen, at a mass cost that is reported.
-  // lam_t: the largest eigenvalue of M_e^-1 K_e per type (lumped M), after the scaling: the
-  // element's part of the step bound (Model::klam)
-  std::vector<double> lam_t(types.size());
+/// Slivers (docs/dynamics.md "Slivers"): selective mass scaling of the element types whose
+/// largest eigenvalue of M_e^-1 K_e exceeds the median free element's by more than
+/// 1 / sliver_step_ratio^2 (a clipped sliver, or a whole brick with a near-degenerate fan
+/// triangle where the clip cut a corner by a hair). The nodes that carry the offending mode get
+/// heavier until the element's step bound is sliver_step_ratio times the median element's:
+/// one element no longer sets the step of the whole specimen, at a mass cost that is reported.
+/// lam_t: the largest eigenvalue of M_e^-1 K_e per type (lumped M), after the scaling: the
+/// element's part of the step bound (Model::klam)
+void scale_slivers(Build& B) {
+  const Params& p = B.p;
+  const geometry::Specimen& s = B.s;
+  const HostMap& map = B.map;
+  Model<>& m = B.m;
+  auto& types = B.types;
+  auto& lam_t = B.lam_t;
+  lam_t.assign(types.size(), 0.0);
   {
     auto lam_of = [](const ElementMatrices& e, Eigen::VectorXd* mode) {
       const Eigen::VectorXd r = e.mass.cwiseSqrt().cwiseInverse();
@@ -246,8 +274,16 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     const double lam_max_after = lam_t.empty() ? 0.0 : *std::max_element(lam_t.begin(), lam_t.end());
     m.sliver_step_gain = lam_max_after > 0 ? std::sqrt(lam_max_before / lam_max_after) : 1.0;
   }
+}
 
-  // ---- type tables: K, (M + h/2 C)^-1, mass, Theta, node positions; element step estimate
+/// Type tables on the device: K, (M + h/2 C)^-1, mass, Theta, node positions, the element step bound.
+void upload_types(Build& B) {
+  const Params& p = B.p;
+  HostMap& map = B.map;
+  Model<>& m = B.m;
+  const auto& types = B.types;
+  const auto& lam_t = B.lam_t;
+  const int nt = B.nt, nd = B.nd;
   m.K = alloc<Model<>::TypeMat>("K", nt, nd, nd);
   m.Ainv = alloc<Model<>::TypeMat>("Ainv", nt, nd, nd);
   m.mass = alloc<Model<>::Dof>("mass", nt, nd);
@@ -291,8 +327,14 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     Kokkos::deep_copy(m.theta, T), Kokkos::deep_copy(m.node_x, X), Kokkos::deep_copy(m.node_y, Y);
     Kokkos::deep_copy(m.type_nodes, N);
   }
+}
 
-  // ---- per element: type, centroid, drive
+/// Per element: type, drive, the driven elements' centroids, and the tiles of the tiled apply.
+void upload_elements(Build& B) {
+  const geometry::Specimen& s = B.s;
+  const HostMap& map = B.map;
+  Model<>& m = B.m;
+  const int ne = B.ne;
   m.type = alloc<Kokkos::View<int*>>("type", ne);
   m.drive = alloc<Kokkos::View<std::int8_t*>>("drive", ne);
   m.driven_index = alloc<Kokkos::View<int*>>("driven_index", ne);
@@ -354,8 +396,21 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     for (std::size_t k = 0; k < dr.size(); ++k) DR(k) = dr[k];
     Kokkos::deep_copy(m.tile_start, TS), Kokkos::deep_copy(m.tile_elem, TE), Kokkos::deep_copy(m.driven, DR);
   }
+}
 
-  // ---- interfaces: locate each segment on one polygon edge of each brick
+/// Interfaces: each geometry segment located on one polygon edge of each brick (and UE's
+/// internal joints), in element order; the damage history where the deck asks for it.
+void locate_interfaces(Build& B) {
+  const Params& p = B.p;
+  const geometry::Specimen& s = B.s;
+  const geometry::Interfaces& f = B.f;
+  const deck::Mortar& mortar = B.mortar;
+  HostMap& map = B.map;
+  Model<>& m = B.m;
+  const bool ue = B.ue;
+  const int nb = B.nb;
+  const auto& poly_x = B.poly_x;
+  const auto& poly_y = B.poly_y;
   auto locate = [&](int b, double x0, double y0, double x1, double y1, int iface) {
     const auto& px = poly_x[b];
     const auto& py = poly_y[b];
@@ -387,12 +442,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
     return sd;
   };
-  struct Rec {
-    Side a, b;
-    double nx, ny, len;
-    std::uint8_t kind;
-  };
-  std::vector<Rec> rec;
+  auto& rec = B.rec;
   rec.reserve(f.size() + (ue ? s.vx.size() : 0));
   for (std::size_t i = 0; i < f.size(); ++i) {
     Rec r;
@@ -442,6 +492,14 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       }
     }
   }
+}
+
+/// Interface tables on the device: elements, shapes shared by bitwise-equal geometry; the
+/// gather counts per element.
+void upload_interfaces(Build& B) {
+  Model<>& m = B.m;
+  const auto& rec = B.rec;
+  const int ne = B.ne;
   const int ni = static_cast<int>(rec.size());
   if (ni >= kMaxGatherIface)
     throw std::runtime_error("dyn: " + std::to_string(ni) + " interfaces; the gather list encodes at most " +
@@ -449,7 +507,8 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   m.n_iface = ni;
   m.ielem = alloc<decltype(m.ielem)>("ielem", ni);
   m.ishape = alloc<Kokkos::View<int*>>("ishape", ni);
-  std::vector<int> goff(ne + 1, 0);
+  auto& goff = B.goff;
+  goff.assign(ne + 1, 0);
   {
     auto E = Kokkos::create_mirror_view(m.ielem);
     auto SH = Kokkos::create_mirror_view(m.ishape);
@@ -498,10 +557,21 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     Kokkos::deep_copy(m.ixi, XI), Kokkos::deep_copy(m.inx, NX), Kokkos::deep_copy(m.iny, NY), Kokkos::deep_copy(m.ilen, L);
     Kokkos::deep_copy(m.ikind, KK);
   }
-  // Step estimate, as the run's monitor computes it (monitor.hpp StepBound) for the elastic state:
-  // per free element, the largest eigenvalue of M_e^-1 K_e plus the Gershgorin row sum of the
-  // elastic interface stiffness k L t int N N^T ds (same in x and y) over the node's mass; the
-  // largest over the elements gives 2 / sqrt(it), a start for critical_step's bisection.
+}
+
+/// Step estimate, as the run's monitor computes it (monitor.hpp StepBound) for the elastic state:
+/// per free element, the largest eigenvalue of M_e^-1 K_e plus the Gershgorin row sum of the
+/// elastic interface stiffness k L t int N N^T ds (same in x and y) over the node's mass; the
+/// largest over the elements gives 2 / sqrt(it), a start for critical_step's bisection.
+void estimate_step(Build& B) {
+  const Params& p = B.p;
+  const geometry::Specimen& s = B.s;
+  const HostMap& map = B.map;
+  Model<>& m = B.m;
+  const auto& types = B.types;
+  const auto& lam_t = B.lam_t;
+  const auto& rec = B.rec;
+  const int ne = B.ne, nd = B.nd;
   {
     std::vector<double> row(static_cast<std::size_t>(ne) * nd, 0.0);
     const auto q = cohesive::gauss_legendre(2);  // N N^T is quadratic in s: exact
@@ -536,8 +606,14 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
     m.step_estimate = omega2 > 0 ? 2.0 / std::sqrt(omega2) : p.dt;
   }
+}
 
-  // gather list: entries of an element in increasing interface order (fixed summation order)
+/// The gather list: entries of an element in increasing interface order (a fixed summation order).
+void build_gather(Build& B) {
+  Model<>& m = B.m;
+  const auto& rec = B.rec;
+  auto& goff = B.goff;
+  const int ne = B.ne, ni = m.n_iface;
   for (int e = 0; e < ne; ++e) goff[e + 1] += goff[e];
   {
     m.goff = alloc<Kokkos::View<int*>>("goff", ne + 1);
@@ -552,8 +628,16 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     for (int e = 0; e <= ne; ++e) O(e) = goff[e];
     Kokkos::deep_copy(m.goff, O), Kokkos::deep_copy(m.gent, G);
   }
+}
 
-  // ---- prescribed force on the top edge (edges of the polygons lying on y = height)
+/// The prescribed force on the top edge (edges of the polygons lying on y = height).
+void top_force(Build& B) {
+  const Params& p = B.p;
+  const geometry::Specimen& s = B.s;
+  const HostMap& map = B.map;
+  Model<>& m = B.m;
+  const bool ue = B.ue;
+  const int nb = B.nb, ne = B.ne, nd = B.nd;
   if (p.force_top != 0.0) {
     m.fp = alloc<Model<>::Dof>("fp", ne, nd);
     auto F = Kokkos::create_mirror_view(m.fp);
@@ -573,6 +657,41 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
     }
     Kokkos::deep_copy(m.fp, F);
   }
+}
+}  // namespace
+
+Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const deck::Mortar& mortar, HostMap& map) {
+  Kokkos::Profiling::ScopedRegion region("nacre::dyn::build_model");
+  if (!(p.dt > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
+  if (!(p.youngs_modulus > 0) || !(p.density > 0) || !(p.thickness > 0) || !(p.poisson > -1 && p.poisson < 0.5))
+    throw std::invalid_argument("dyn: need E > 0, rho > 0, thickness > 0, -1 < nu < 0.5");
+  const bool ue = p.method == Method::ue;
+  const Material mat{p.youngs_modulus, p.poisson, p.density, p.thickness};
+  const int nb = static_cast<int>(s.size());
+  Model<> m;
+  m.h = p.dt, m.alpha = p.alpha_d, m.beta = p.beta_d, m.thickness = p.thickness, m.eps_th = p.thermal_strain;
+  m.pattern = loading::Pattern{p.tension, p.bending, s.width > 0 ? s.width : 1.0};
+  m.top_prescribed = p.force_top == 0.0;
+  m.brick_height = whole_brick_height(s);
+  if (p.quadrature_points < 1 || p.quadrature_points > 8)
+    throw std::invalid_argument("dyn: quadrature_points must be 1..8");
+  m.quad = cohesive::gauss_legendre(p.quadrature_points);
+  // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),
+  // so they tie the triangles as in §4.4 and cannot rupture.
+  m.laws = cohesive::make_law_table(
+      mortar.bed, mortar.head, cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
+
+  Build B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}};
+  add_elements(B);
+  scale_slivers(B);
+  upload_types(B);
+  upload_elements(B);
+  locate_interfaces(B);
+  upload_interfaces(B);
+  estimate_step(B);
+  build_gather(B);
+  top_force(B);
   return m;
 }
 
