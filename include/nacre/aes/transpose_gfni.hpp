@@ -26,6 +26,10 @@
 /// address depends on data. Compiled only with AVX-512 F/BW/VBMI and GFNI and never by a device
 /// compiler or its host pass (bitsliced.hpp defines NACRE_AES_GFNI_TRANSPOSE accordingly); the
 /// portable path stays compiled and tested (tests/aes/test_aes.cpp runs both against OpenSSL).
+// The ISA this file is written for; elsewhere it declares nothing (bitsliced.hpp includes it
+// only under the same condition, so it also compiles alone on any target).
+#if defined(__x86_64__) && defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VBMI__) && \
+    defined(__GFNI__)
 #include <immintrin.h>
 
 #include <cstdint>
@@ -161,3 +165,5 @@ inline void store_state(const __m512i* st, void* out, __m512i* tmp) {
 }
 
 }  // namespace nacre::aes::bitslice::gfni
+
+#endif  // AVX-512 F/BW/VBMI + GFNI
