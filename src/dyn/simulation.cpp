@@ -70,6 +70,12 @@ struct Simulation::Impl {
   BieTables<> bie;
   DofView<Mem> pn, vn, R;
   int n_tiles = 0;
+  /// BIE's step, chosen once (choose_bie_step) from the scheme and whether the shared J^-1 is
+  /// fused over the tiles: one of bie_step's overloads, and what it needs besides the functors.
+  using BieStepFn = void (*)(const Exec&, const BieIntegrator<Mem>&, const InterfaceOp<Mem>&, const BieSolveOp<Mem>&,
+                             const BieStepPlan&);
+  BieStepFn bie_step_fn = nullptr;
+  BieStepPlan bie_plan;
   [[nodiscard]] bool is_bie() const { return p.method == Method::bie; }
 
   template <class V>
@@ -102,6 +108,25 @@ struct Simulation::Impl {
                               bie.block_lower && p.bie_block_structure, bie.jq, bie.jr, bie.Jv,
                               bie.vfirst && p.bie_block_structure};
   }
+  /// Picks BIE's step overload and fills its plan (after the tables and n_tiles are set).
+  void choose_bie_step() {
+    if (!is_bie()) return;
+    bie_plan = BieStepPlan{p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force, m.n_elem, m.n_iface, n_tiles};
+    const bool split = p.bie_scheme == BieScheme::split;
+    if (split && bie_fused())
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+                       const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::true_type{}, it, op, so, pl); };
+    else if (split)
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+                       const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::false_type{}, it, op, so, pl); };
+    else if (bie_fused())
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+                       const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::true_type{}, it, op, so, pl); };
+    else
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+                       const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::false_type{}, it, op, so, pl); };
+  }
+
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).
   [[nodiscard]] bool bie_fused() const { return is_bie() && p.bie_solve == BieSolve::shared_gemm && integrator().tiled; }
   BieSolveOp<Mem> bie_solver() const {
@@ -175,8 +200,7 @@ struct Simulation::Impl {
     if (is_bie()) {
       auto bi = bie_integrator();
       bi.ex = it;
-      bie_step(space, bi, InterfaceOp<Mem>(m, u, iforce), bie_solver(), p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force,
-               m.n_elem, m.n_iface, n_tiles, bie_fused(), p.bie_scheme == BieScheme::split);
+      bie_step_fn(space, bi, InterfaceOp<Mem>(m, u, iforce), bie_solver(), bie_plan);
     } else {
       verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
     }
@@ -194,6 +218,7 @@ struct Simulation::Impl {
       bie = build_bie_tables(m);
       n_tiles = static_cast<int>(bie.tile_start.extent(0));
       if (bie_fused()) bie.slot_of_elem = {}, bie.slot_type = {}, bie.tile_start = {}, bie.tile_count = {}, n_tiles = 0;
+      choose_bie_step();
     }
     ++report.dt_changes;
   }
@@ -345,6 +370,7 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
       I.bie.slot_of_elem = {}, I.bie.slot_type = {}, I.bie.tile_start = {}, I.bie.tile_count = {};
       I.n_tiles = 0;
     }
+    I.choose_bie_step();
   }
   I.dt0 = p.dt;
   I.allocate();

@@ -43,6 +43,8 @@
 ///   Table 4.2's damping). Params::bie_block_structure = false keeps the dense form.
 #include <nacre/dyn/kernels.hpp>
 
+#include <type_traits>
+
 #include <string>
 #include <vector>
 
@@ -907,91 +909,121 @@ void bie_solve(const ExecutionSpace& space, const BieSolveOp<MemOf<ExecutionSpac
   }
 }
 
-/// \brief One BIE step: start, then per iteration (solve, update, interface force, residual),
-/// the last interface force at x_{n+1}, and the final accelerations and books.
-template <class ExecutionSpace>
-void bie_step(const ExecutionSpace& space, const BieIntegrator<MemOf<ExecutionSpace>>& it,
-              const InterfaceOp<MemOf<ExecutionSpace>>& op, const BieSolveOp<MemOf<ExecutionSpace>>& solve,
-              BieSolve variant, int block, int iterations, bool reuse_force, int n_elem, int n_iface, int n_tiles,
-              bool fused = false, bool split = false) {
+/// \brief What a BIE step needs besides the kernels' functors: the J^-1 apply and its block, the
+/// iterations of eq. 4.6 (iterated scheme) and whether the last one keeps its force, and the
+/// extents. Chosen once when the simulation is built.
+struct BieStepPlan {
+  BieSolve variant = BieSolve::shared_gemm;
+  int block = 4, iterations = 2;
+  bool reuse_force = true;
+  int n_elem = 0, n_iface = 0, n_tiles = 0;
+};
+
+/// \brief The scheme of a BIE step as a type (BieScheme::iterate, BieScheme::split); with
+/// std::bool_constant<Fused> (shared J^-1 over the element tiles, residual never stored: the
+/// BieIntegrator's *TileTag kernels) they pick one of bie_step's overloads at compile time.
+struct BieIterateScheme {};
+struct BieSplitScheme {};
+
+/// \brief One split BIE step (docs/methods.md "The split step"): start (half kick, residual) + one
+/// J^-1 apply, the interface force at p_{n+1}, end.
+template <class ExecutionSpace, bool Fused>
+void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fused>,
+              const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
+              const BieSolveOp<MemOf<ExecutionSpace>>& solve, const BieStepPlan& plan) {
   using Exec = ExecutionSpace;
-  if (split) {  // BieScheme::split: start (half kick, residual) + one J^-1 apply, force at p_{n+1}, end
-    const int nw = it.ex.n_tiles + it.ex.n_driven;
-    {
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
-      if (fused)
-        Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled", Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw),
-                             it);
-      else {
-        Kokkos::parallel_for("nacre::dyn::bie_split_start", Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, n_elem), it);
-        bie_solve(space, solve, variant, block, n_elem, n_tiles);
-        Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, n_elem), it);
-      }
-    }
-    {
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-      Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
-    }
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
-    if (fused)
-      Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled", Kokkos::RangePolicy<Exec, BieSplitFinalTileTag>(space, 0, nw), it);
-    else
-      Kokkos::parallel_for("nacre::dyn::bie_split_final", Kokkos::RangePolicy<Exec, BieSplitFinalTag>(space, 0, n_elem), it);
-    return;
-  }
-  if (fused) {  // shared J^-1 over the element tiles, residual never stored (BieStartTileTag ...)
-    const int nw = it.ex.n_tiles + it.ex.n_driven;
-    // the reduced last pass follows: the start needs only u_1 (BieIntegrator::start_positions_only)
-    const bool reduced_end = iterations == 2 && reuse_force && it.block_lower && it.jq == 0.0 && !it.vfirst;
-    {
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
-      BieIntegrator<MemOf<ExecutionSpace>> start = it;
-      start.start_positions_only = reduced_end;
-      Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw),
-                           start);
-    }
-    for (int k = 0; k < iterations; ++k) {
-      if (k > 0 && reuse_force && k == iterations - 1) {  // the last iteration and the end in one pass
-        Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
-        if (it.block_lower && it.jq == 0.0)  // C = 0 only: with alpha_d M, G_p(x_1) = 0 still, but y_p != 0
-          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
-                               Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
-        else
-          Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled",
-                               Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw), it);
-        return;
-      }
-      if (k > 0) {
-        Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
-        Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw), it);
-      }
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-      Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
-    }
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
-    Kokkos::parallel_for("nacre::dyn::bie_final_tiled", Kokkos::RangePolicy<Exec, BieFinalTileTag>(space, 0, nw), it);
-    return;
-  }
+  const int nw = it.ex.n_tiles + it.ex.n_driven;  // work items of the fused (tiled) kernels
+  (void)nw, (void)solve;                          // (each is read by one of the two variants only)
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
-    Kokkos::parallel_for("nacre::dyn::bie_start", Kokkos::RangePolicy<Exec, BieStartTag>(space, 0, n_elem), it);
+    if constexpr (Fused)
+      Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled", Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw),
+                           it);
+    else {
+      Kokkos::parallel_for("nacre::dyn::bie_split_start", Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, plan.n_elem), it);
+      bie_solve(space, solve, plan.variant, plan.block, plan.n_elem, plan.n_tiles);
+      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem), it);
+    }
   }
-  for (int k = 0; k < iterations; ++k) {
-    if (k > 0) {
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_residual");
-      Kokkos::parallel_for("nacre::dyn::bie_residual", Kokkos::RangePolicy<Exec, BieResidualTag>(space, 0, n_elem), it);
-    }
-    bie_solve(space, solve, variant, block, n_elem, n_tiles);
-    {
-      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_update");
-      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, n_elem), it);
-    }
-    if (reuse_force && k == iterations - 1 && k > 0) break;  // a_{n+1} from the force at the previous iterate
+  {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, n_iface), op);
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
-  Kokkos::parallel_for("nacre::dyn::bie_final", Kokkos::RangePolicy<Exec, BieFinalTag>(space, 0, n_elem), it);
+  if constexpr (Fused)
+    Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled", Kokkos::RangePolicy<Exec, BieSplitFinalTileTag>(space, 0, nw), it);
+  else
+    Kokkos::parallel_for("nacre::dyn::bie_split_final", Kokkos::RangePolicy<Exec, BieSplitFinalTag>(space, 0, plan.n_elem), it);
+}
+
+/// \brief One iterated BIE step (eq. 4.6), fused over the element tiles: start, then per
+/// iteration the interface force and the tiled iterate; the last iteration and the end in one
+/// pass where the force is kept.
+template <class ExecutionSpace>
+void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fused*/,
+              const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
+              const BieSolveOp<MemOf<ExecutionSpace>>& /*solve: inside the tiles*/, const BieStepPlan& plan) {
+  using Exec = ExecutionSpace;
+  const int nw = it.ex.n_tiles + it.ex.n_driven;
+  // the reduced last pass follows: the start needs only u_1 (BieIntegrator::start_positions_only)
+  const bool reduced_end = plan.iterations == 2 && plan.reuse_force && it.block_lower && it.jq == 0.0 && !it.vfirst;
+  {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
+    BieIntegrator<MemOf<ExecutionSpace>> start = it;
+    start.start_positions_only = reduced_end;
+    Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw),
+                         start);
+  }
+  for (int k = 0; k < plan.iterations; ++k) {
+    if (k > 0 && plan.reuse_force && k == plan.iterations - 1) {  // the last iteration and the end in one pass
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
+      if (it.block_lower && it.jq == 0.0)  // C = 0 only: with alpha_d M, G_p(x_1) = 0 still, but y_p != 0
+        Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
+                             Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
+      else
+        Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled",
+                             Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw), it);
+      return;
+    }
+    if (k > 0) {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
+      Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw), it);
+    }
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
+  }
+  Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
+  Kokkos::parallel_for("nacre::dyn::bie_final_tiled", Kokkos::RangePolicy<Exec, BieFinalTileTag>(space, 0, nw), it);
+}
+
+/// \brief One iterated BIE step (eq. 4.6), unfused: start, then per iteration (solve, update,
+/// interface force, residual), the last interface force at x_{n+1}, and the final accelerations
+/// and books.
+template <class ExecutionSpace>
+void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*fused*/,
+              const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
+              const BieSolveOp<MemOf<ExecutionSpace>>& solve, const BieStepPlan& plan) {
+  using Exec = ExecutionSpace;
+  {
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
+    Kokkos::parallel_for("nacre::dyn::bie_start", Kokkos::RangePolicy<Exec, BieStartTag>(space, 0, plan.n_elem), it);
+  }
+  for (int k = 0; k < plan.iterations; ++k) {
+    if (k > 0) {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_residual");
+      Kokkos::parallel_for("nacre::dyn::bie_residual", Kokkos::RangePolicy<Exec, BieResidualTag>(space, 0, plan.n_elem), it);
+    }
+    bie_solve(space, solve, plan.variant, plan.block, plan.n_elem, plan.n_tiles);
+    {
+      Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_update");
+      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem), it);
+    }
+    if (plan.reuse_force && k == plan.iterations - 1 && k > 0) break;  // a_{n+1} from the force at the previous iterate
+    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
+  }
+  Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
+  Kokkos::parallel_for("nacre::dyn::bie_final", Kokkos::RangePolicy<Exec, BieFinalTag>(space, 0, plan.n_elem), it);
 }
 
 /// \brief Free elements' a of the current state (start-up): the acceleration a(x) for the
