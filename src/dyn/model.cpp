@@ -111,12 +111,12 @@ struct Build {
   bool ue;
   Material mat;
   int nb;
-  std::vector<ElementMatrices> types;          ///< element types (shared matrices)
+  std::vector<ElementMatrices> types;               ///< element types (shared matrices)
   std::vector<std::vector<double>> poly_x, poly_y;  ///< brick polygons about their centroids
-  int ne = 0, nt = 0, nd = 0;                  ///< elements, types, dofs per element
-  std::vector<double> lam_t;                   ///< largest eigenvalue of M_e^-1 K_e per type
-  std::vector<Rec> rec;                        ///< interfaces, in the model's order
-  std::vector<int> goff;                       ///< gather-list offsets per element
+  int ne = 0, nt = 0, nd = 0;                       ///< elements, types, dofs per element
+  std::vector<double> lam_t;                        ///< largest eigenvalue of M_e^-1 K_e per type
+  std::vector<Rec> rec;                             ///< interfaces, in the model's order
+  std::vector<int> goff;                            ///< gather-list offsets per element
 };
 
 /// Elements and their types: one bolted element per brick (BE, BIE) or a fan of triangles (UE),
@@ -680,7 +680,8 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   // Internal joints (UE): stiff and never leaving the elastic range (x1 far beyond any opening),
   // so they tie the triangles as in §4.4 and cannot rupture.
   m.laws = cohesive::make_law_table(
-      mortar.bed, mortar.head, cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
+      mortar.bed, mortar.head,
+      cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
 
   Build B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}};
   add_elements(B);

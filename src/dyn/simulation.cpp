@@ -114,16 +114,20 @@ struct Simulation::Impl {
     bie_plan = BieStepPlan{p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force, m.n_elem, m.n_iface, n_tiles};
     const bool split = p.bie_scheme == BieScheme::split;
     if (split && bie_fused())
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+                       const BieSolveOp<Mem>& so,
                        const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::true_type{}, it, op, so, pl); };
     else if (split)
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+                       const BieSolveOp<Mem>& so,
                        const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::false_type{}, it, op, so, pl); };
     else if (bie_fused())
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+                       const BieSolveOp<Mem>& so,
                        const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::true_type{}, it, op, so, pl); };
     else
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op, const BieSolveOp<Mem>& so,
+      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+                       const BieSolveOp<Mem>& so,
                        const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::false_type{}, it, op, so, pl); };
   }
 

@@ -10,8 +10,8 @@ std::unique_ptr<UniformSource> make_uniform_source(std::string_view kind, std::u
   if (kind == "philox") return std::make_unique<PhiloxSource>(seed);
   if (kind == "aes-ctr") return aes::make_aes_ctr_source(seed);
   if (kind == "mt-aes") return aes::make_mt_aes_source(seed);
-  throw std::invalid_argument("unknown random generator '" + std::string(kind) +
-                              "', expected one of " + uniform_source_kinds());
+  throw std::invalid_argument("unknown random generator '" + std::string(kind) + "', expected one of " +
+                              uniform_source_kinds());
 }
 
 }  // namespace nacre::rng

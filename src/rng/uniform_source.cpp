@@ -1,7 +1,6 @@
 #include <nacre/rng/philox.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
-
 namespace nacre::rng {
 
 void PhiloxSource::fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {

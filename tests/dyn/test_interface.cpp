@@ -160,8 +160,9 @@ TEST_CASE("dyn interfaces: the energy along a segment is exact on every branch, 
   };
   // the law's exact integral (cohesive::integrate), whatever the rule the model holds (its
   // points serve only a damage history): elastic, penetrating, and every branch in one segment
-  for (const auto& c : {std::array<double, 4>{0.002, 0.001, 0.006, -0.004}, std::array<double, 4>{-0.009, 0.0, -0.002, 0.001},
-                        std::array<double, 4>{-0.004, 0.003, 0.04, -0.01}}) {
+  for (const auto& c :
+       {std::array<double, 4>{0.002, 0.001, 0.006, -0.004}, std::array<double, 4>{-0.009, 0.0, -0.002, 0.001},
+        std::array<double, 4>{-0.004, 0.003, 0.04, -0.01}}) {
     const double ref = reference(c[0], c[1], c[2], c[3]);
     const double e2 = energy_with(2, c[0], c[1], c[2], c[3]), e4 = energy_with(4, c[0], c[1], c[2], c[3]);
     INFO("reference " << ref << " with a 2-point rule held " << e2 << ", 4 points " << e4);

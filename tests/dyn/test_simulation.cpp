@@ -149,54 +149,54 @@ TEST_CASE("dyn: irreversible damage under a load-unload programme: books close, 
   deck::Mortar mo = mortar();
   mo.damage = cohesive::Damage::irreversible, mo.damage_auto = false;
   for (const auto method : {dyn::Method::be, dyn::Method::bie}) {
-  CAPTURE(int(method));
-  auto p = loaded(method);
-  p.dt = 1.0;  // only for the estimate
-  dyn::HostMap map;
-  const double est = dyn::build_model(p, st.s, st.f, mo, map).step_estimate;
-  p.dt = 0.4 * est;
-  const double peak = 0.1;  // mm: the joints ahead of the notch pass x1 (0.0101 mm)
-  const long leg = 3000;    // steps per leg
-  p.rate = peak / (leg * p.dt), p.ramp_time = 0.1 * leg * p.dt;
-  p.programme = {peak, 0.0};
-  dyn::Simulation sim(p, st.s, st.f, mo);
-  const auto ex = Kokkos::DefaultExecutionSpace{};
-  auto dissipated = [&] {
-    std::vector<double> dmg, e;
-    std::vector<int> state;
-    sim.interface_damage(dmg, state, &e);
-    double s = 0;
-    for (double x : e) s += x;
-    return s;
-  };
-  REQUIRE(sim.advance(ex, leg + leg / 10));  // past the peak (the ramp delays it by half its time)
-  const double d_peak = dissipated();
-  INFO("D " << sim.displacement() << ", dissipated " << d_peak);
-  CHECK(d_peak > 0);
-  CHECK(sim.displacement() < peak);  // on the way down
-  const auto saved = sim.save_state();
-  REQUIRE(saved.count("history"));
-  REQUIRE(sim.advance(ex, leg));
-  CHECK(sim.displacement() == 0.0);  // held at the programme's last target
-  const auto e = sim.energies();
-  const double d_end = dissipated();
-  INFO("end: W " << e.external_work << " C " << e.cohesive << " S " << e.strain << " K " << e.kinetic << " res "
-                 << e.balance_residual << " dissipated " << d_end);
-  CHECK(std::abs(e.balance_residual) < 1e-3);
-  CHECK(d_end >= d_peak);
-  CHECK(e.cohesive >= d_end * (1 - 1e-12));  // psi >= D(kappa): the joints hold at least what they dissipated
-  // the same steps from the saved state: every array, the history included, bit for bit
-  dyn::Simulation b(p, st.s, st.f, mo);
-  b.restore_state(saved);
-  REQUIRE(b.advance(ex, leg));
-  const auto sa = sim.save_state(), sb = b.save_state();
-  for (const auto& [k, v] : sa) {
-    CAPTURE(k);
-    CHECK(v == sb.at(k));
-  }
-  auto no_history = saved;
-  no_history.erase("history");
-  dyn::Simulation c(p, st.s, st.f, mo);
-  CHECK_THROWS(c.restore_state(no_history));
+    CAPTURE(int(method));
+    auto p = loaded(method);
+    p.dt = 1.0;  // only for the estimate
+    dyn::HostMap map;
+    const double est = dyn::build_model(p, st.s, st.f, mo, map).step_estimate;
+    p.dt = 0.4 * est;
+    const double peak = 0.1;  // mm: the joints ahead of the notch pass x1 (0.0101 mm)
+    const long leg = 3000;    // steps per leg
+    p.rate = peak / (leg * p.dt), p.ramp_time = 0.1 * leg * p.dt;
+    p.programme = {peak, 0.0};
+    dyn::Simulation sim(p, st.s, st.f, mo);
+    const auto ex = Kokkos::DefaultExecutionSpace{};
+    auto dissipated = [&] {
+      std::vector<double> dmg, e;
+      std::vector<int> state;
+      sim.interface_damage(dmg, state, &e);
+      double s = 0;
+      for (double x : e) s += x;
+      return s;
+    };
+    REQUIRE(sim.advance(ex, leg + leg / 10));  // past the peak (the ramp delays it by half its time)
+    const double d_peak = dissipated();
+    INFO("D " << sim.displacement() << ", dissipated " << d_peak);
+    CHECK(d_peak > 0);
+    CHECK(sim.displacement() < peak);  // on the way down
+    const auto saved = sim.save_state();
+    REQUIRE(saved.count("history"));
+    REQUIRE(sim.advance(ex, leg));
+    CHECK(sim.displacement() == 0.0);  // held at the programme's last target
+    const auto e = sim.energies();
+    const double d_end = dissipated();
+    INFO("end: W " << e.external_work << " C " << e.cohesive << " S " << e.strain << " K " << e.kinetic << " res "
+                   << e.balance_residual << " dissipated " << d_end);
+    CHECK(std::abs(e.balance_residual) < 1e-3);
+    CHECK(d_end >= d_peak);
+    CHECK(e.cohesive >= d_end * (1 - 1e-12));  // psi >= D(kappa): the joints hold at least what they dissipated
+    // the same steps from the saved state: every array, the history included, bit for bit
+    dyn::Simulation b(p, st.s, st.f, mo);
+    b.restore_state(saved);
+    REQUIRE(b.advance(ex, leg));
+    const auto sa = sim.save_state(), sb = b.save_state();
+    for (const auto& [k, v] : sa) {
+      CAPTURE(k);
+      CHECK(v == sb.at(k));
+    }
+    auto no_history = saved;
+    no_history.erase("history");
+    dyn::Simulation c(p, st.s, st.f, mo);
+    CHECK_THROWS(c.restore_state(no_history));
   }
 }

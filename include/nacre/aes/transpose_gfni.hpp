@@ -28,8 +28,7 @@
 /// portable path stays compiled and tested (tests/aes/test_aes.cpp runs both against OpenSSL).
 // The ISA this file is written for; elsewhere it declares nothing (bitsliced.hpp includes it
 // only under the same condition, so it also compiles alone on any target).
-#if defined(__x86_64__) && defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VBMI__) && \
-    defined(__GFNI__)
+#if defined(__x86_64__) && defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VBMI__) && defined(__GFNI__)
 #include <immintrin.h>
 
 #include <cstdint>

@@ -10,7 +10,7 @@
 
 #define NACRE_ASSERT_STR2(x) #x
 #define NACRE_ASSERT_STR(x) NACRE_ASSERT_STR2(x)
-#define NACRE_ASSERT(cond, what)                                                                   \
-  do {                                                                                             \
+#define NACRE_ASSERT(cond, what)                                                                          \
+  do {                                                                                                    \
     if (!(cond)) ::Kokkos::abort("nacre: " __FILE__ ":" NACRE_ASSERT_STR(__LINE__) ": " #cond ": " what); \
   } while (false)

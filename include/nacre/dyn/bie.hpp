@@ -937,23 +937,28 @@ void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fu
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
     if constexpr (Fused)
-      Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled", Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw),
-                           it);
+      Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled",
+                           Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw), it);
     else {
-      Kokkos::parallel_for("nacre::dyn::bie_split_start", Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, plan.n_elem), it);
+      Kokkos::parallel_for("nacre::dyn::bie_split_start",
+                           Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, plan.n_elem), it);
       bie_solve(space, solve, plan.variant, plan.block, plan.n_elem, plan.n_tiles);
-      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem), it);
+      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem),
+                           it);
     }
   }
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
+                         op);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   if constexpr (Fused)
-    Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled", Kokkos::RangePolicy<Exec, BieSplitFinalTileTag>(space, 0, nw), it);
+    Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled",
+                         Kokkos::RangePolicy<Exec, BieSplitFinalTileTag>(space, 0, nw), it);
   else
-    Kokkos::parallel_for("nacre::dyn::bie_split_final", Kokkos::RangePolicy<Exec, BieSplitFinalTag>(space, 0, plan.n_elem), it);
+    Kokkos::parallel_for("nacre::dyn::bie_split_final",
+                         Kokkos::RangePolicy<Exec, BieSplitFinalTag>(space, 0, plan.n_elem), it);
 }
 
 /// \brief One iterated BIE step (eq. 4.6), fused over the element tiles: start, then per
@@ -987,10 +992,12 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fu
     }
     if (k > 0) {
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
-      Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw), it);
+      Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw),
+                           it);
     }
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
+                         op);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   Kokkos::parallel_for("nacre::dyn::bie_final_tiled", Kokkos::RangePolicy<Exec, BieFinalTileTag>(space, 0, nw), it);
@@ -1011,16 +1018,19 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*f
   for (int k = 0; k < plan.iterations; ++k) {
     if (k > 0) {
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_residual");
-      Kokkos::parallel_for("nacre::dyn::bie_residual", Kokkos::RangePolicy<Exec, BieResidualTag>(space, 0, plan.n_elem), it);
+      Kokkos::parallel_for("nacre::dyn::bie_residual", Kokkos::RangePolicy<Exec, BieResidualTag>(space, 0, plan.n_elem),
+                           it);
     }
     bie_solve(space, solve, plan.variant, plan.block, plan.n_elem, plan.n_tiles);
     {
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_update");
-      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem), it);
+      Kokkos::parallel_for("nacre::dyn::bie_update", Kokkos::RangePolicy<Exec, BieUpdateTag>(space, 0, plan.n_elem),
+                           it);
     }
     if (plan.reuse_force && k == plan.iterations - 1 && k > 0) break;  // a_{n+1} from the force at the previous iterate
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface), op);
+    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
+                         op);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   Kokkos::parallel_for("nacre::dyn::bie_final", Kokkos::RangePolicy<Exec, BieFinalTag>(space, 0, plan.n_elem), it);

@@ -357,7 +357,8 @@ long sweep_colour(ScalarTrials, std::bool_constant<PerBrick>, const ExecutionSpa
                                      : slot_energy(slot, j, laws[skind[j]], f_new, frame_of(p, link(j, 0)), quad,
                                                    hist ? hist + static_cast<std::size_t>(link(j, 1)) * nq : nullptr);
           acc += 1;
-          if (PerBrick) bacc(b) += 1;  // one thread per brick: no race (plain if: nvcc lambdas may not capture in if constexpr)
+          // one thread per brick: no race (a plain if: nvcc's lambdas may not capture in an if constexpr)
+          if (PerBrick) bacc(b) += 1;
         }
         dE[b] = accept ? d : 0.0;
        }
