@@ -367,16 +367,6 @@ long sweep_colour(ScalarTrials, std::bool_constant<PerBrick>, const ExecutionSpa
   return accepted;
 }
 
-template <class ExecutionSpace, class MemorySpace, class Uniforms>
-long sweep_colour(ScalarTrials t, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
-                  const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
-                  double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
-  if (brick_steps.active())
-    return sweep_colour(t, std::true_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
-                        brick_steps);
-  return sweep_colour(t, std::false_type{}, space, m, begin, end, uniforms, cache, de, step, rot_step, temperature,
-                      brick_steps);
-}
 
 /// Marks a loop over the lanes of BatchedTrials for vectorisation (OpenMP's simd where the host
 /// compiler has OpenMP; the loops are written to vectorise without it too).
@@ -668,8 +658,11 @@ long sweep_colour(BatchedTrials, std::bool_constant<PerBrick>, const ExecutionSp
   return accepted;
 }
 
-template <class ExecutionSpace, class MemorySpace, class Uniforms>
-long sweep_colour(BatchedTrials t, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
+/// \brief sweep_colour(ScalarTrials or BatchedTrials, ...): the per-brick-steps variant picked once,
+/// from whether brick_steps holds steps.
+template <class Trials, class ExecutionSpace, class MemorySpace, class Uniforms,
+          std::enable_if_t<std::is_same_v<Trials, ScalarTrials> || std::is_same_v<Trials, BatchedTrials>, int> = 0>
+long sweep_colour(Trials t, const ExecutionSpace& space, const Model<MemorySpace>& m, int begin, int end,
                   const Uniforms& uniforms, Field<double, MemorySpace> cache, Field<double, MemorySpace> de,
                   double step, double rot_step, double temperature, const BrickSteps<MemorySpace>& brick_steps = {}) {
   if (brick_steps.active())
