@@ -112,23 +112,15 @@ struct Simulation::Impl {
   void choose_bie_step() {
     if (!is_bie()) return;
     bie_plan = BieStepPlan{p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force, m.n_elem, m.n_iface, n_tiles};
-    const bool split = p.bie_scheme == BieScheme::split;
-    if (split && bie_fused())
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
-                       const BieSolveOp<Mem>& so,
-                       const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::true_type{}, it, op, so, pl); };
-    else if (split)
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
-                       const BieSolveOp<Mem>& so,
-                       const BieStepPlan& pl) { bie_step(s, BieSplitScheme{}, std::false_type{}, it, op, so, pl); };
-    else if (bie_fused())
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
-                       const BieSolveOp<Mem>& so,
-                       const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::true_type{}, it, op, so, pl); };
-    else
-      bie_step_fn = [](const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
-                       const BieSolveOp<Mem>& so,
-                       const BieStepPlan& pl) { bie_step(s, BieIterateScheme{}, std::false_type{}, it, op, so, pl); };
+    const bool split = p.bie_scheme == BieScheme::split, fused = bie_fused();
+    if (split) bie_step_fn = fused ? &bie_step_of<BieSplitScheme, true> : &bie_step_of<BieSplitScheme, false>;
+    else bie_step_fn = fused ? &bie_step_of<BieIterateScheme, true> : &bie_step_of<BieIterateScheme, false>;
+  }
+  /// bie_step's overload for (Scheme, Fused) behind one function-pointer type.
+  template <class Scheme, bool Fused>
+  static void bie_step_of(const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+                          const BieSolveOp<Mem>& so, const BieStepPlan& pl) {
+    bie_step(s, Scheme{}, std::bool_constant<Fused>{}, it, op, so, pl);
   }
 
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).

@@ -193,8 +193,9 @@ std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
   Field<std::int8_t> st(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state"), m_.n_interfaces);
   Field<double> en;
   if (energy) en = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy"), m_.n_interfaces);
-  interface_state(space_, m_, en, st);
-  if (energy && m_.hist.data()) interface_dissipation(space_, m_, en);  // with a history: what it dissipated
+  // with a history the energy of fracture is what each joint dissipated, not its cohesive energy
+  interface_state(space_, m_, m_.hist.data() ? Field<double>() : en, st);
+  if (energy && m_.hist.data()) interface_dissipation(space_, m_, en);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), en);
   std::vector<std::int8_t> out(static_cast<std::size_t>(m_.n_interfaces));

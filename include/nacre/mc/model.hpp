@@ -75,9 +75,6 @@ struct Model {
   /// an interface's few values together, beside its slot record.
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;
 
-  /// \brief Interface i's history row, or null when the model has none.
-  KOKKOS_INLINE_FUNCTION const double* history(int i) const { return hist.data() ? &hist(i, 0) : nullptr; }
-
   // ---- host-side bookkeeping
   /// \brief Work items (tiles) in sweep order: bricks of tile w are [tile_offset(w), tile_offset(w+1)).
   Kokkos::View<int*, MemorySpace> tile_offset;
