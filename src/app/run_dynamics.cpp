@@ -27,6 +27,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -220,122 +221,157 @@ DynCheckpoint validated_dyn_checkpoint(const deck::Deck& d, const std::string& r
   return cp;
 }
 
-int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
-  using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-  const bool quiet = opt.quiet, tty = opt.tty;
-  const std::string& restart = opt.restart;
-  std::ostream* log = quiet ? nullptr : &std::cout;
-  const auto& D = d.dynamics;
+namespace {
 
-  const Setup setup = build(d);
-  const auto& specimen = setup.specimen;
-  const auto& interfaces = setup.interfaces;
-  dyn::Params p = dynamics_params(d, specimen.size());
-  if (log)
-    *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
-         << " interfaces, dynamics " << method_name(p.method) << scheme_label(p) << " (E = " << p.youngs_modulus
-         << " N/mm^2, alpha_d = " << p.alpha_d << " 1/s, beta_d = " << p.beta_d << " s), "
-         << Kokkos::DefaultExecutionSpace::name() << " with " << Kokkos::DefaultExecutionSpace().concurrency()
-         << " threads\n";
+/// One dynamic run, from the deck to the last row: the simulation set up on the run's
+/// execution-space instance (its step from dt or dt_fraction, a restart's state), the writer,
+/// the row / dump / checkpoint cycle, and the three ways a run ends (done, unstable, a signal).
+/// Each phase is one member; run() strings them together.
+class DynamicRun {
+public:
+  DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
+      : d_(d), D_(d.dynamics), opt_(opt), log_(opt.quiet ? nullptr : &std::cout), t0_(clock::now()),
+        setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
+        crack_(setup_.specimen, setup_.interfaces, d.geometry),
+        rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
+        progress_(opt.tty && d.output.progress && !opt.quiet) {}
 
-  DynCheckpoint cp;
-  double h_crit = 0;  // the estimated critical step a dt_fraction deck took its dt from
-  if (!restart.empty()) {
-    cp = validated_dyn_checkpoint(d, restart, opt.extend);
-    p.dt = cp.dt;  // the run continues with the step it started with
-  }
-  const bool from_fraction = restart.empty() && D.dt <= 0;
-  if (from_fraction) p.dt = 1e-9;  // replaced below, before the first step
-  dyn::Simulation sim(p, specimen, interfaces, d.mortar);
-  if (from_fraction) {
-    h_crit = sim.step_report().estimate;
-    if (!std::isfinite(h_crit) || h_crit <= 0)
-      throw std::runtime_error("critical step estimate failed (" + num(h_crit) + ")");
-    if (!estimate_bounds_step(p)) {  // the iterated BIE step with stiffness damping: bisect too
-      Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
-      dyn::Params q = p;
-      q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
-      const double hb = dyn::critical_step(q, specimen, interfaces, d.mortar, critical_trial_steps, critical_rtol);
-      if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
-      if (log)
-        *log << "nacre: the iterated BIE step with stiffness damping: bisected critical step " << hb
-             << " s against the estimate " << h_crit << " s; the smaller is used\n";
-      h_crit = std::min(h_crit, hb);
+  int run() {
+    log_start();
+    make_simulation();
+    log_model();
+    open_writer();
+    t_run_ = elapsed();
+    step0_ = sim_->steps();
+    if (opt_.restart.empty()) {
+      prev_time_ = sim_->time();
+      if (const int rc = write_start(); rc >= 0) return rc;
+    } else {
+      prev_time_ = sim_->time(), prev_extension_ = read_crack().extension, have_prev_ = true;
     }
-    p.dt = D.dt_fraction * h_crit;
-    deck::check_time_steps(d, p.dt, "dynamics.dt_fraction");  // e.g. end_time = 1e20: refused, not overflowed
-    sim.set_initial_dt(p.dt);
-    if (log)
-      *log << "nacre: estimated critical step " << h_crit << " s, dt = " << D.dt_fraction << " x = " << p.dt << " s ("
-           << elapsed() << " s)\n";
+    return loop();
   }
-  // fixed dt: the step count is known; adaptive: the run ends at end_time (the count is an estimate)
-  const bool adaptive = p.dt_mode == dyn::DtMode::adaptive;
-  const long fixed_total = std::max(1L, static_cast<long>(std::ceil(D.end_time / p.dt - 1e-9)));
-  auto finished = [&] { return adaptive ? sim.time() >= D.end_time * (1 - 1e-12) : sim.steps() >= fixed_total; };
-  auto total_now = [&] {
-    if (!adaptive) return fixed_total;
-    return sim.steps() + std::max(0L, static_cast<long>(std::ceil((D.end_time - sim.time()) / sim.dt() - 1e-9)));
-  };
-  const long total = total_now();
-  if (!restart.empty()) {
-    sim.restore_state(cp.state);
-    if (sim.steps() != cp.step)
-      throw std::runtime_error(restart + ": restored state is at step " + std::to_string(sim.steps()) +
-                               ", the checkpoint says " + std::to_string(cp.step));
-    if (log) *log << "nacre: restarting from " << restart << " at step " << cp.step << ", t = " << cp.time << " s\n";
-  }
-  if (log)
-    *log << "nacre: dt = " << p.dt << " s, " << total << " steps to t = " << D.end_time << " s; "
-         << sim.element_types() << " element types, " << sim.bytes() / 1048576.0 << " MiB on the device\n";
-  if (log && sim.sliver_elements() > 0)
-    *log << "nacre: " << sim.sliver_elements() << " sliver elements (step bound below " << p.sliver_step_ratio
-         << " of the median element's) mass-scaled: +" << 100 * sim.sliver_mass_added()
-         << " % of the specimen's mass, the elements' step bound x" << sim.sliver_step_gain() << "\n";
-  if (log)
-    *log << "nacre: stability monitor: balance within " << D.balance_tolerance << ", dt " << (adaptive ? "adaptive" : "fixed")
-         << ", estimated critical step " << sim.step_report().estimate << " s at the start\n";
 
-  const DynFields fields(specimen, interfaces, sim.snapshot());
-  std::optional<io::RunWriter::Resume> resume;
-  if (!restart.empty()) {
-    resume = io::RunWriter::Resume{cp.step, std::filesystem::path(restart).parent_path()};
-    if (resume->source_directory.empty()) resume->source_directory = ".";
+private:
+  using clock = std::chrono::steady_clock;
+  static constexpr int kContinue = -1;
+
+  [[nodiscard]] double elapsed() const { return std::chrono::duration<double>(clock::now() - t0_).count(); }
+  [[nodiscard]] bool adaptive() const { return p_.dt_mode == dyn::DtMode::adaptive; }
+  // fixed dt: the step count is known; adaptive: the run ends at end_time (the count is an estimate)
+  [[nodiscard]] bool finished() const {
+    return adaptive() ? sim_->time() >= D_.end_time * (1 - 1e-12) : sim_->steps() >= fixed_total_;
   }
-  // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
-  io::RunWriter::Options wo;
-  wo.directory = d.output.directory, wo.hdf5 = d.output.hdf5, wo.csv_header = series_header();
-  wo.csv_name = io::names::dyn_table, wo.dump_digits = 9, wo.elements = fields.mesh();
-  io::RunWriter writer(wo, specimen, interfaces, resume);
-  if (log && writer.stale_temporaries_removed() > 0)
-    *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
-         << writer.directory().string() << "/\n";
-  // the crack of every row (fracture/crack.hpp) and its tip speed against the bricks' Rayleigh speed
-  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);
-  const double rayleigh = fracture::rayleigh_speed_plane_stress(p.youngs_modulus, p.poisson, p.density);
-  std::vector<double> iface_dmg, iface_energy;
-  std::vector<int> iface_state;
-  auto read_crack = [&] {
-    sim.interface_damage(iface_dmg, iface_state, &iface_energy);
-    return crack.measure(iface_state, iface_energy);
-  };
-  // the dumps' interface field "crack": the path from the notch (docs/fracture.md)
-  auto with_crack = [&](io::Snapshot o, const dyn::Snapshot& snap) {
-    o.fields.push_back({io::Centre::interface, "crack", crack.crack_mask(snap.iface_state), 1});
+  [[nodiscard]] long total_now() const {
+    if (!adaptive()) return fixed_total_;
+    return sim_->steps() +
+           std::max(0L, static_cast<long>(std::ceil((D_.end_time - sim_->time()) / sim_->dt() - 1e-9)));
+  }
+
+  void log_start() const {
+    if (!log_) return;
+    *log_ << "nacre: " << d_.path << ": " << setup_.specimen.size() << " bricks, " << setup_.interfaces.size()
+          << " interfaces, dynamics " << method_name(p_.method) << scheme_label(p_) << " (E = " << p_.youngs_modulus
+          << " N/mm^2, alpha_d = " << p_.alpha_d << " 1/s, beta_d = " << p_.beta_d << " s), " << space_.name()
+          << " with " << space_.concurrency() << " threads\n";
+  }
+
+  /// The simulation at the step the run takes: a restart's, the deck's dt, or dt_fraction of the
+  /// estimated (BIE iterated with stiffness damping: also bisected) critical step; a restart's state.
+  void make_simulation() {
+    const std::string& restart = opt_.restart;
+    if (!restart.empty()) {
+      cp_ = validated_dyn_checkpoint(d_, restart, opt_.extend);
+      p_.dt = cp_.dt;  // the run continues with the step it started with
+    }
+    const bool from_fraction = restart.empty() && D_.dt <= 0;
+    if (from_fraction) p_.dt = 1e-9;  // replaced below, before the first step
+    sim_.emplace(space_, p_, setup_.specimen, setup_.interfaces, d_.mortar);
+    if (from_fraction) take_step_from_fraction();
+    fixed_total_ = std::max(1L, static_cast<long>(std::ceil(D_.end_time / p_.dt - 1e-9)));
+    if (restart.empty()) return;
+    sim_->restore_state(cp_.state);
+    if (sim_->steps() != cp_.step)
+      throw std::runtime_error(restart + ": restored state is at step " + std::to_string(sim_->steps()) +
+                               ", the checkpoint says " + std::to_string(cp_.step));
+    if (log_) *log_ << "nacre: restarting from " << restart << " at step " << cp_.step << ", t = " << cp_.time << " s\n";
+  }
+
+  void take_step_from_fraction() {
+    h_crit_ = sim_->step_report().estimate;
+    if (!std::isfinite(h_crit_) || h_crit_ <= 0)
+      throw std::runtime_error("critical step estimate failed (" + num(h_crit_) + ")");
+    if (!estimate_bounds_step(p_)) {  // the iterated BIE step with stiffness damping: bisect too
+      Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
+      dyn::Params q = p_;
+      q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
+      const double hb = dyn::critical_step(space_, q, setup_.specimen, setup_.interfaces, d_.mortar,
+                                           critical_trial_steps, critical_rtol);
+      if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
+      if (log_)
+        *log_ << "nacre: the iterated BIE step with stiffness damping: bisected critical step " << hb
+              << " s against the estimate " << h_crit_ << " s; the smaller is used\n";
+      h_crit_ = std::min(h_crit_, hb);
+    }
+    p_.dt = D_.dt_fraction * h_crit_;
+    deck::check_time_steps(d_, p_.dt, "dynamics.dt_fraction");  // e.g. end_time = 1e20: refused, not overflowed
+    sim_->set_initial_dt(p_.dt);
+    if (log_)
+      *log_ << "nacre: estimated critical step " << h_crit_ << " s, dt = " << D_.dt_fraction << " x = " << p_.dt
+            << " s (" << elapsed() << " s)\n";
+  }
+
+  void log_model() const {
+    if (!log_) return;
+    const auto& sim = *sim_;
+    *log_ << "nacre: dt = " << p_.dt << " s, " << total_now() << " steps to t = " << D_.end_time << " s; "
+          << sim.element_types() << " element types, " << sim.bytes() / 1048576.0 << " MiB on the device\n";
+    if (sim.sliver_elements() > 0)
+      *log_ << "nacre: " << sim.sliver_elements() << " sliver elements (step bound below " << p_.sliver_step_ratio
+            << " of the median element's) mass-scaled: +" << 100 * sim.sliver_mass_added()
+            << " % of the specimen's mass, the elements' step bound x" << sim.sliver_step_gain() << "\n";
+    *log_ << "nacre: stability monitor: balance within " << D_.balance_tolerance << ", dt "
+          << (adaptive() ? "adaptive" : "fixed") << ", estimated critical step " << sim.step_report().estimate
+          << " s at the start\n";
+  }
+
+  void open_writer() {
+    fields_.emplace(setup_.specimen, setup_.interfaces, sim_->snapshot());
+    std::optional<io::RunWriter::Resume> resume;
+    if (!opt_.restart.empty()) {
+      resume = io::RunWriter::Resume{cp_.step, std::filesystem::path(opt_.restart).parent_path()};
+      if (resume->source_directory.empty()) resume->source_directory = ".";
+    }
+    // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
+    io::RunWriter::Options wo;
+    wo.directory = d_.output.directory, wo.hdf5 = d_.output.hdf5, wo.csv_header = series_header();
+    wo.csv_name = io::names::dyn_table, wo.dump_digits = 9, wo.elements = fields_->mesh();
+    writer_.emplace(wo, setup_.specimen, setup_.interfaces, resume);
+    if (log_ && writer_->stale_temporaries_removed() > 0)
+      *log_ << "nacre: removed " << writer_->stale_temporaries_removed()
+            << " stale temporary file(s) of a killed run in " << writer_->directory().string() << "/\n";
+  }
+
+  /// The crack now (fracture/crack.hpp).
+  fracture::CrackReading read_crack() {
+    sim_->interface_damage(iface_dmg_, iface_state_, &iface_energy_);
+    return crack_.measure(iface_state_, iface_energy_);
+  }
+  /// A dump's fields plus the interface field "crack": the path from the notch (docs/fracture.md).
+  io::Snapshot dump_fields(long step, const dyn::Snapshot& snap) const {
+    io::Snapshot o = fields_->fields(step, snap);
+    o.fields.push_back({io::Centre::interface, "crack", crack_.crack_mask(snap.iface_state), 1});
     return o;
-  };
-  // the previous row's time and extension (a restart reads them from the restored state: its row)
-  double prev_time = sim.time(), prev_extension = restart.empty() ? 0.0 : read_crack().extension;
-  bool have_prev = !restart.empty();
-  auto make_row = [&] {
+  }
+
+  SeriesRow make_row() {
+    const auto& sim = *sim_;
     SeriesRow r;
     r.crack = read_crack();
-    if (have_prev && sim.time() > prev_time)
-      r.crack_speed = (r.crack.extension - prev_extension) / (sim.time() - prev_time);
-    r.crack_speed_rayleigh = r.crack_speed / rayleigh;
-    prev_time = sim.time(), prev_extension = r.crack.extension, have_prev = true;
+    if (have_prev_ && sim.time() > prev_time_)
+      r.crack_speed = (r.crack.extension - prev_extension_) / (sim.time() - prev_time_);
+    r.crack_speed_rayleigh = r.crack_speed / rayleigh_;
+    prev_time_ = sim.time(), prev_extension_ = r.crack.extension, have_prev_ = true;
     r.step = sim.steps();
     r.time = sim.time();
     r.displacement = sim.displacement();
@@ -346,200 +382,255 @@ int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) {
     r.critical_estimate = sim.step_report().estimate;
     r.seconds = elapsed();
     return r;
-  };
-  auto checkpoint = [&] {
-    DynCheckpoint c;
-    c.step = sim.steps();
-    c.time = sim.time();
-    c.dt = p.dt;
-    c.end_time = D.end_time;
-    c.method = method_name(p.method);
-    c.state = sim.save_state();
-    return c;
-  };
-  const double t_run = elapsed();
-  const long step0 = sim.steps();
-  std::string status = "done", why;
-  double worst_balance = 0;  // the largest |balance residual| of the rows the balance check covers
-  const bool progress = tty && d.output.progress && !quiet;
+  }
 
-  auto summary = [&] {
+  DynCheckpoint checkpoint() const {
+    DynCheckpoint c;
+    c.step = sim_->steps();
+    c.time = sim_->time();
+    c.dt = p_.dt;
+    c.end_time = D_.end_time;
+    c.method = method_name(p_.method);
+    c.state = sim_->save_state();
+    return c;
+  }
+
+  void summary() {
+    const auto& sim = *sim_;
     nlohmann::ordered_json j;
     const auto& sr = sim.step_report();
-    j["deck"] = d.path;
+    const auto null = nlohmann::ordered_json(nullptr);
+    j["deck"] = d_.path;
     j["solver"] = "dynamics";
-    j["method"] = method_name(p.method);
-    j["bie_scheme"] = p.method == dyn::Method::bie ? nlohmann::ordered_json(p.bie_scheme == dyn::BieScheme::split ? "split" : "iterate")
-                                                   : nlohmann::ordered_json(nullptr);
-    j["status"] = status;
-    j["bricks"] = specimen.size();
-    j["interfaces"] = interfaces.size();
+    j["method"] = method_name(p_.method);
+    j["bie_scheme"] = p_.method == dyn::Method::bie
+                          ? nlohmann::ordered_json(p_.bie_scheme == dyn::BieScheme::split ? "split" : "iterate")
+                          : null;
+    j["status"] = status_;
+    j["bricks"] = setup_.specimen.size();
+    j["interfaces"] = setup_.interfaces.size();
     j["element_types"] = sim.element_types();
     j["device_bytes"] = sim.bytes();
-    j["youngs_modulus"] = p.youngs_modulus;
-    j["stiffness_ratio"] = D.ratio();
-    j["alpha_d"] = p.alpha_d;
-    j["beta_d"] = p.beta_d;
-    j["dt"] = p.dt;
-    j["dt_mode"] = adaptive ? "adaptive" : "fixed";
+    j["youngs_modulus"] = p_.youngs_modulus;
+    j["stiffness_ratio"] = D_.ratio();
+    j["alpha_d"] = p_.alpha_d;
+    j["beta_d"] = p_.beta_d;
+    j["dt"] = p_.dt;
+    j["dt_mode"] = adaptive() ? "adaptive" : "fixed";
     j["dt_final"] = sim.dt();
     j["dt_changes"] = sr.dt_changes;
     j["critical_estimate"] = sr.estimate;
     j["step_bound_start"] = sr.bound_start;
     j["controlling_brick"] = sr.brick;
     j["growth_longest_run"] = sr.growth_longest;
-    j["balance_tolerance"] = D.balance_tolerance;
-    j["worst_balance_residual"] = worst_balance;
-    j["sliver_step_ratio"] = p.sliver_step_ratio;
+    j["balance_tolerance"] = D_.balance_tolerance;
+    j["worst_balance_residual"] = worst_balance_;
+    j["sliver_step_ratio"] = p_.sliver_step_ratio;
     j["sliver_elements"] = sim.sliver_elements();
     j["sliver_mass_added"] = sim.sliver_mass_added();
     j["sliver_step_gain"] = sim.sliver_step_gain();
-    j["why"] = why.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(why);
-    j["critical_step"] = h_crit > 0 ? nlohmann::ordered_json(h_crit) : nlohmann::ordered_json(nullptr);
+    j["why"] = why_.empty() ? null : nlohmann::ordered_json(why_);
+    j["critical_step"] = h_crit_ > 0 ? nlohmann::ordered_json(h_crit_) : null;
     j["steps"] = sim.steps();
     j["time"] = sim.time();
-    j["end_time"] = D.end_time;
+    j["end_time"] = D_.end_time;
     j["ruptured"] = sim.ruptured();
     {
       auto& c = j["crack"];
-      fracture::put_json(c, read_crack(), crack.notch_tip_x());
-      c["rayleigh_speed"] = rayleigh;
-      c["thickness"] = p.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
-      c["bed_work_of_fracture"] = d.mortar.bed.k * d.mortar.bed.x1 * d.mortar.bed.x2;
+      fracture::put_json(c, read_crack(), crack_.notch_tip_x());
+      c["rayleigh_speed"] = rayleigh_;
+      c["thickness"] = p_.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
+      c["bed_work_of_fracture"] = d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2;
     }
-    j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
-    j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
+    j["threads"] = space_.concurrency();
+    j["execution_space"] = space_.name();
     j["seconds"] = elapsed();
-    j["seconds_per_step"] = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0.0;
+    j["seconds_per_step"] = seconds_per_step();
+    fracture::put_damage_json(j, d_);
     // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
-    fracture::put_damage_json(j, d);
-    writer.summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
-  };
-  // Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.
-  auto unstable = [&](const std::string& message) {
-    if (progress) std::fprintf(stderr, "\n");
-    status = "unstable";
-    why = message;
-    writer.flush_rows();
-    summary();
-    std::cerr << "nacre: error: unstable: " << message << "\n"
-              << "nacre: kept " << writer.rows() << " rows of series.csv; last dump and checkpoint at step "
-              << writer.last_dump_step() << "; try a smaller dt (nacre " << d.path << " --critical-step)\n";
-    return exit_unstable;
-  };
-
-  if (restart.empty()) {
-    const SeriesRow r = make_row();
-    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer.row(r.step, series_line(r), false);
-    const dyn::Snapshot snap = sim.snapshot();
-    if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer.dump(with_crack(fields.fields(0, snap), snap));
-    writer.checkpoint(to_named(checkpoint(), d));
+    writer_->summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+  }
+  [[nodiscard]] double seconds_per_step() const {
+    const long n = sim_->steps() - step0_;
+    return n > 0 ? (elapsed() - t_run_) / static_cast<double>(n) : 0.0;
   }
 
-  SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
-  double last_flush = elapsed(), last_progress = -1;
-  // off a terminal: a plain log line at most every [output] heartbeat seconds between dumps
-  const bool heartbeat = !tty && log && d.output.heartbeat > 0;
-  double last_line = elapsed();
-  // time spent since the run (re)started and the estimate of what is left, from the steps done
-  auto spent_left = [&](long step) {
-    const double frac = static_cast<double>(step - step0) / static_cast<double>(std::max(1L, total_now() - step0));
-    const double spent = elapsed() - t_run;
-    return std::pair{spent, frac > 0 ? spent / frac - spent : -1.0};
-  };
-  const Kokkos::DefaultExecutionSpace space;
-  long step = sim.steps();
-  while (!finished()) {
-    const long total_est = total_now();
-    long next = std::min(total_est, (step / D.csv_interval + 1) * D.csv_interval);
-    if (D.dump_interval > 0) next = std::min(next, (step / D.dump_interval + 1) * D.dump_interval);
+  /// Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.
+  int unstable(const std::string& message) {
+    if (progress_) std::fprintf(stderr, "\n");
+    status_ = "unstable";
+    why_ = message;
+    writer_->flush_rows();
+    summary();
+    std::cerr << "nacre: error: unstable: " << message << "\n"
+              << "nacre: kept " << writer_->rows() << " rows of series.csv; last dump and checkpoint at step "
+              << writer_->last_dump_step() << "; try a smaller dt (nacre " << d_.path << " --critical-step)\n";
+    return exit_unstable;
+  }
+  static std::string at(long step, double t) { return " at step " + std::to_string(step) + ", t = " + num(t) + " s"; }
+
+  /// Row, dump and checkpoint of step 0 (a new run); kContinue or the exit code.
+  int write_start() {
+    const SeriesRow r = make_row();
+    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
+    writer_->row(r.step, series_line(r), false);
+    const dyn::Snapshot snap = sim_->snapshot();
+    if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
+    writer_->dump(dump_fields(0, snap));
+    writer_->checkpoint(to_named(checkpoint(), d_));
+    return kContinue;
+  }
+
+  /// Time spent since the run (re)started and the estimate of what is left, from the steps done.
+  [[nodiscard]] std::pair<double, double> spent_left(long step) const {
+    const double frac = static_cast<double>(step - step0_) / static_cast<double>(std::max(1L, total_now() - step0_));
+    const double spent = elapsed() - t_run_;
+    return {spent, frac > 0 ? spent / frac - spent : -1.0};
+  }
+
+  /// Advance to the next row (the next csv_interval or dump_interval step) and write it; the
+  /// dump and checkpoint where due. kContinue or the exit code.
+  int advance_one_row(bool& dumped) {
+    long step = sim_->steps();
+    long next = std::min(total_now(), (step / D_.csv_interval + 1) * D_.csv_interval);
+    if (D_.dump_interval > 0) next = std::min(next, (step / D_.dump_interval + 1) * D_.dump_interval);
     bool ok;
     {
       Kokkos::Profiling::ScopedRegion region("nacre::app::advance");
-      ok = sim.advance(space, next - step);
+      ok = sim_->advance(space_, next - step);
     }
-    if (!ok) return unstable(sim.why());
-    step = sim.steps();
+    if (!ok) return unstable(sim_->why());
+    step = sim_->steps();
     const SeriesRow r = make_row();
-    if (auto q = non_finite(r); !q.empty())
-      return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
     // advance() checked this state (its last chunk ends here), balance included: the row's books close
-    writer.row(step, series_line(r), false);
-    if (dyn::balance_checked(step)) worst_balance = std::max(worst_balance, std::abs(r.e.balance_residual));
-    const bool dump = finished() || (D.dump_interval > 0 && step % D.dump_interval == 0);
-    if (dump) {
-      const dyn::Snapshot snap = sim.snapshot();
-      if (auto q = first_non_finite(snap); !q.empty())
-        return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
+    writer_->row(step, series_line(r), false);
+    if (dyn::balance_checked(step)) worst_balance_ = std::max(worst_balance_, std::abs(r.e.balance_residual));
+    dumped = finished() || (D_.dump_interval > 0 && step % D_.dump_interval == 0);
+    if (dumped) {
+      const dyn::Snapshot snap = sim_->snapshot();
+      if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
       DynCheckpoint c = checkpoint();
-      if (auto q = non_finite(c.state); !q.empty())
-        return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-      writer.dump(with_crack(fields.fields(step, snap), snap));  // the rows first, then the dump, then the checkpoint
-      writer.checkpoint(to_named(c, d));
-      last_flush = elapsed();
-      if (log && !progress) {
-        last_line = elapsed();
-        *log << "  step " << step << "/" << total_now() << ": t = " << r.time << " s, D = " << r.displacement
-             << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
-             << ", ruptured " << r.ruptured << "\n";
-      }
-    } else {
-      if (elapsed() - last_flush > 2.0) {
-        writer.flush_rows();
-        last_flush = elapsed();
-      }
-      if (heartbeat && elapsed() - last_line >= d.output.heartbeat) {
-        last_line = elapsed();
+      if (auto q = non_finite(c.state); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
+      writer_->dump(dump_fields(step, snap));  // the rows first, then the dump, then the checkpoint
+      writer_->checkpoint(to_named(c, d_));
+      last_flush_ = elapsed();
+    } else if (elapsed() - last_flush_ > 2.0) {
+      writer_->flush_rows();
+      last_flush_ = elapsed();
+    }
+    report(r, dumped);
+    return kContinue;
+  }
+
+  /// The log line of a dump, the heartbeat off a terminal, the progress line on one.
+  void report(const SeriesRow& r, bool dumped) {
+    const long step = r.step;
+    if (log_ && !progress_ && (dumped || (heartbeat_ && elapsed() - last_line_ >= d_.output.heartbeat))) {
+      last_line_ = elapsed();
+      if (dumped) {
+        *log_ << "  step " << step << "/" << total_now() << ": t = " << r.time << " s, D = " << r.displacement
+              << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
+              << ", ruptured " << r.ruptured << "\n";
+      } else {
         const auto [spent, left] = spent_left(step);
-        *log << "  step " << step << "/" << total_now() << " in progress: t = " << r.time << " s, D = " << r.displacement
-             << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent) << ", left ~"
-             << hms(left) << "\n";
+        *log_ << "  step " << step << "/" << total_now() << " in progress: t = " << r.time << " s, D = "
+              << r.displacement << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent)
+              << ", left ~" << hms(left) << "\n";
       }
     }
-    if (const int sig = pending_signal(); sig != 0 && !finished()) {
-      if (progress) std::fprintf(stderr, "\n");
-      if (!dump) {  // the rows so far are written; the checkpoint holds this completed step
-        DynCheckpoint c = checkpoint();
-        if (auto q = non_finite(c.state); !q.empty())
-          return unstable("non-finite " + q + " at step " + std::to_string(step) + ", t = " + num(r.time) + " s");
-        writer.checkpoint(to_named(c, d));  // after the rows it continues
-      }
-      writer.flush_rows();
-      status = "interrupted";
-      summary();
-      std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << r.time
-                << " s); checkpoint written to " << writer.checkpoint_path().string()
-                << "\nnacre: continue with: nacre " << d.path << " -o " << writer.directory().string() << " --restart "
-                << writer.checkpoint_path().string() << "\n";
-      return 128 + sig;
-    }
-    if (progress && (elapsed() - last_progress > 0.25 || finished())) {
-      last_progress = elapsed();
+    if (progress_ && (elapsed() - last_progress_ > 0.25 || finished())) {
+      last_progress_ = elapsed();
       const auto [spent, left] = spent_left(step);
       std::fprintf(stderr, "\r  step %ld/%ld  t %.4g/%.4g s  D %.4g  F %.4g  ruptured %d  elapsed %s  left ~%s   ",
-                   step, total_now(), r.time, D.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
+                   step, total_now(), r.time, D_.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
                    hms(left).c_str());
       std::fflush(stderr);
     }
   }
-  if (progress) std::fprintf(stderr, "\n");
-  writer.flush_rows();
-  summary();
-  if (log) {
-    const double per = sim.steps() > step0 ? (elapsed() - t_run) / static_cast<double>(sim.steps() - step0) : 0;
-    *log << "nacre: done in " << elapsed() << " s; " << sim.steps() << " steps (" << per * 1e6 << " us/step), t = "
-         << sim.time() << " s, " << sim.ruptured() << " interfaces ruptured\n";
-    *log << "nacre: results in " << writer.directory().string()
-         << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
-  }
-  if (const int sig = pending_signal()) {  // in the last chunk: the results are complete
-    std::cerr << "nacre: " << signal_name(sig) << " received during the last chunk: results complete, charts skipped\n";
+
+  /// SIGINT/SIGTERM before the end: the checkpoint of this completed step (unless the row's
+  /// dump wrote it), the summary, exit 128 + signal.
+  int interrupted(int sig, bool dumped) {
+    if (progress_) std::fprintf(stderr, "\n");
+    const long step = sim_->steps();
+    if (!dumped) {  // the rows so far are written; the checkpoint holds this completed step
+      DynCheckpoint c = checkpoint();
+      if (auto q = non_finite(c.state); !q.empty()) return unstable("non-finite " + q + at(step, sim_->time()));
+      writer_->checkpoint(to_named(c, d_));  // after the rows it continues
+    }
+    writer_->flush_rows();
+    status_ = "interrupted";
+    summary();
+    std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << sim_->time()
+              << " s); checkpoint written to " << writer_->checkpoint_path().string() << "\nnacre: continue with: nacre "
+              << d_.path << " -o " << writer_->directory().string() << " --restart "
+              << writer_->checkpoint_path().string() << "\n";
     return 128 + sig;
   }
-  if (d.output.charts && !run_charts("nacre_dyn_plot.py", writer.directory(), log)) return 1;
-  return 0;
-}
+
+  int loop() {
+    SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
+    last_flush_ = last_line_ = elapsed();
+    // off a terminal: a plain log line at most every [output] heartbeat seconds between dumps
+    heartbeat_ = !opt_.tty && log_ && d_.output.heartbeat > 0;
+    while (!finished()) {
+      bool dumped = false;
+      if (const int rc = advance_one_row(dumped); rc != kContinue) return rc;
+      if (const int sig = pending_signal(); sig != 0 && !finished()) return interrupted(sig, dumped);
+    }
+    return done();
+  }
+
+  int done() {
+    if (progress_) std::fprintf(stderr, "\n");
+    writer_->flush_rows();
+    summary();
+    if (log_) {
+      *log_ << "nacre: done in " << elapsed() << " s; " << sim_->steps() << " steps (" << seconds_per_step() * 1e6
+            << " us/step), t = " << sim_->time() << " s, " << sim_->ruptured() << " interfaces ruptured\n";
+      *log_ << "nacre: results in " << writer_->directory().string()
+            << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
+    }
+    if (const int sig = pending_signal()) {  // in the last chunk: the results are complete
+      std::cerr << "nacre: " << signal_name(sig) << " received during the last chunk: results complete, charts skipped\n";
+      return 128 + sig;
+    }
+    if (d_.output.charts && !run_charts("nacre_dyn_plot.py", writer_->directory(), log_)) return 1;
+    return 0;
+  }
+
+  const deck::Deck& d_;
+  const deck::Dynamics& D_;
+  const DynRunOptions& opt_;
+  std::ostream* log_;
+  const clock::time_point t0_;
+  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance
+  const Setup setup_;
+  dyn::Params p_;
+  const fracture::CrackTracker crack_;
+  const double rayleigh_;  ///< the bricks' Rayleigh speed: the crack-tip speed's scale
+  const bool progress_;
+  DynCheckpoint cp_;
+  double h_crit_ = 0;  ///< the estimated critical step a dt_fraction deck took its dt from
+  long fixed_total_ = 1;
+  std::optional<dyn::Simulation> sim_;
+  std::optional<DynFields> fields_;
+  std::optional<io::RunWriter> writer_;
+  std::vector<double> iface_dmg_, iface_energy_;
+  std::vector<int> iface_state_;
+  double prev_time_ = 0, prev_extension_ = 0;  ///< the previous row's (a restart: the restored state's)
+  bool have_prev_ = false;
+  double t_run_ = 0;
+  long step0_ = 0;
+  std::string status_ = "done", why_;
+  double worst_balance_ = 0;  ///< the largest |balance residual| of the rows the balance check covers
+  double last_flush_ = 0, last_progress_ = -1, last_line_ = 0;
+  bool heartbeat_ = false;
+};
+
+}  // namespace
+
+int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) { return DynamicRun(d, opt).run(); }
 
 }  // namespace nacre::app

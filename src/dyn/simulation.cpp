@@ -124,7 +124,7 @@ struct Simulation::Impl {
   }
 
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).
-  [[nodiscard]] bool bie_fused() const { return is_bie() && p.bie_solve == BieSolve::shared_gemm && integrator().tiled; }
+  [[nodiscard]] bool bie_fused() const { return is_bie() && p.bie_solve == BieSolve::shared_gemm && tiled(); }
   BieSolveOp<Mem> bie_solver() const {
     return BieSolveOp<Mem>{bie.Jinv, bie.slot_type, bie.tile_start, bie.tile_count, R, bie.n2};
   }
@@ -169,14 +169,33 @@ struct Simulation::Impl {
     }
   }
 
-  Integrator<Mem> integrator() const {
-    Integrator<Mem> it(m, u, v, a, acc, dacc, iforce);
-    // automatic: tiled on a CPU for the bolted methods (measured 1.5x faster final_integrate at
-    // 50k bricks); UE's 6-dof triangles gain nothing from it (measured), they stay per element
-    it.tiled = p.element_apply == ElementApply::tiled ||
-               (p.element_apply == ElementApply::automatic && std::is_same_v<ElemLayout<Mem>, Kokkos::LayoutRight> &&
-                p.method != Method::ue);
-    return it;
+  Integrator<Mem> integrator() const { return Integrator<Mem>(m, u, v, a, acc, dacc, iforce); }
+
+  /// final_integrate over the element tiles (ElementTiles<true>) or per element: automatic =
+  /// tiled on a CPU for the bolted methods (measured 1.5x faster final_integrate at 50k bricks);
+  /// UE's 6-dof triangles gain nothing from it (measured), they stay per element.
+  [[nodiscard]] bool tiled() const {
+    return p.element_apply == ElementApply::tiled ||
+           (p.element_apply == ElementApply::automatic && std::is_same_v<ElemLayout<Mem>, Kokkos::LayoutRight> &&
+            p.method != Method::ue);
+  }
+
+  /// One step of the run's integrator (u, v, a from t_n to t_{n+1}; `it` carries the opening),
+  /// chosen once (choose_step): velocity Verlet per element or tiled, or BIE's chosen step.
+  using StepFn = void (*)(const Impl&, const Exec&, const Integrator<Mem>&);
+  StepFn step_fn = nullptr;
+  template <bool Tiled>
+  static void verlet_of(const Impl& I, const Exec& s, const Integrator<Mem>& it) {
+    verlet_step(s, ElementTiles<Tiled>{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
+  }
+  static void bie_of(const Impl& I, const Exec& s, const Integrator<Mem>& it) {
+    auto bi = I.bie_integrator();
+    bi.ex = it;
+    I.bie_step_fn(s, bi, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.bie_solver(), I.bie_plan);
+  }
+  void choose_step() {
+    choose_bie_step();
+    step_fn = is_bie() ? &bie_of : (tiled() ? &verlet_of<true> : &verlet_of<false>);
   }
 
   /// Driven elements at their prescribed values for time t (no step taken).
@@ -193,13 +212,7 @@ struct Simulation::Impl {
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(now(step));
-    if (is_bie()) {
-      auto bi = bie_integrator();
-      bi.ex = it;
-      bie_step_fn(space, bi, InterfaceOp<Mem>(m, u, iforce), bie_solver(), bie_plan);
-    } else {
-      verlet_step(space, it, InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface);
-    }
+    step_fn(*this, space, it);
     update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);  // irreversible damage: after every step
     ++step;
   }
@@ -337,8 +350,8 @@ struct Simulation::Impl {
   }
 };
 
-Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                       const deck::Mortar& mortar)
+Simulation::Simulation(const Exec& space, const Params& p, const geometry::Specimen& s,
+                       const geometry::Interfaces& f, const deck::Mortar& mortar)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;
@@ -366,11 +379,10 @@ Simulation::Simulation(const Params& p, const geometry::Specimen& s, const geome
       I.bie.slot_of_elem = {}, I.bie.slot_type = {}, I.bie.tile_start = {}, I.bie.tile_count = {};
       I.n_tiles = 0;
     }
-    I.choose_bie_step();
   }
+  I.choose_step();
   I.dt0 = p.dt;
   I.allocate();
-  Exec space;
   I.space = space;
   I.start(space);
 }
@@ -657,17 +669,16 @@ double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added
 double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
 
-double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+double critical_step(const Exec& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                      const deck::Mortar& mortar, long steps, double rtol) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::critical_step");
-  Exec space;
   auto stable = [&](double dt) {
     Params q = p;
     q.dt = dt;
     // a trial is stable when finite, below the kinetic bound and (balance_tolerance > 0) with
     // closed books; the growth and step-bound checks watch a run, not a trial
     q.growth_factor = 0, q.step_check = false, q.dt_mode = DtMode::fixed;
-    Simulation sim(q, s, f, mortar);
+    Simulation sim(space, q, s, f, mortar);
     return sim.advance(space, steps);
   };
   double h = p.dt;

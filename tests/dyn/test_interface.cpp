@@ -50,7 +50,7 @@ struct Probe {
   /// Interface forces assembled on host from the kernel's per-interface rows.
   Eigen::VectorXd iface_force(const Eigen::VectorXd& x) {
     set(x);
-    dyn::interface_forces(Exec{}, dyn::InterfaceOp<Mem>(m, u, f), m.n_iface);
+    dyn::force(Exec{}, dyn::InterfaceOp<Mem>(m, u, f), m.n_iface);
     auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, f);
     auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.ielem);
     auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.inode);   // per shape

@@ -947,11 +947,7 @@ void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fu
                            it);
     }
   }
-  {
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
-                         op);
-  }
+  force(space, op, plan.n_iface);
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   if constexpr (Fused)
     Kokkos::parallel_for("nacre::dyn::bie_split_final_tiled",
@@ -995,9 +991,7 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fu
       Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw),
                            it);
     }
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
-                         op);
+    force(space, op, plan.n_iface);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   Kokkos::parallel_for("nacre::dyn::bie_final_tiled", Kokkos::RangePolicy<Exec, BieFinalTileTag>(space, 0, nw), it);
@@ -1028,9 +1022,7 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*f
                            it);
     }
     if (plan.reuse_force && k == plan.iterations - 1 && k > 0) break;  // a_{n+1} from the force at the previous iterate
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<Exec, ForceTag>(space, 0, plan.n_iface),
-                         op);
+    force(space, op, plan.n_iface);
   }
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_final");
   Kokkos::parallel_for("nacre::dyn::bie_final", Kokkos::RangePolicy<Exec, BieFinalTag>(space, 0, plan.n_elem), it);
@@ -1042,7 +1034,7 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*f
 template <class ExecutionSpace>
 void bie_accelerations(const ExecutionSpace& space, BieIntegrator<MemOf<ExecutionSpace>> it,
                        const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface, bool split = false) {
-  interface_forces(space, op, n_iface);
+  force(space, op, n_iface);
   it.book = false;
   if (split)
     Kokkos::parallel_for("nacre::dyn::bie_split_init", Kokkos::RangePolicy<ExecutionSpace, BieSplitInitTag>(space, 0, n_elem),

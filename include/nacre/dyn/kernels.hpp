@@ -19,6 +19,8 @@
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/dyn/model.hpp>
 
+#include <type_traits>
+
 namespace nacre::dyn {
 
 struct ForceTag {};
@@ -214,7 +216,6 @@ struct Integrator {
   DrivenAccView<MemorySpace> dacc;
   int nd, n_tiles, n_driven;
   bool has_fp, ainv_diagonal;
-  bool tiled = false;  ///< final_integrate over tiles (FinalTileTag) instead of per element (FinalTag)
   double h, alpha, beta;
   loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
@@ -266,52 +267,32 @@ struct Integrator {
     }
   }
 
+  /// End of step of element e: a free element as a lane of final_free (a tile of width 1), a
+  /// driven one booked by final_driven.
   KOKKOS_INLINE_FUNCTION void operator()(FinalTag, int e) const {
-    const int t = type(e);
-    double x[kMaxDof], w[kMaxDof], f[kMaxDof], fi[kMaxDof];
-    gather(e, fi);
-    for (int j = 0; j < nd; ++j) f[j] = fi[j] + theta(t, j) + (has_fp ? fp(e, j) : 0.0);
-    if (drive(e) == 0) {
-      // w = v_n + h/2 a_n is the velocity at which C acts; u_{n+1} - u_n = h w.
-      double work = 0;
-      for (int j = 0; j < nd; ++j) {
-        x[j] = u(e, j);
-        w[j] = v(e, j) + 0.5 * h * a(e, j);
-        work += (f[j] - fi[j]) * w[j];
-      }
-      double r[kMaxDof];
-      for (int i = 0; i < nd; ++i) {
-        double ku = 0, kw = 0;
-        for (int j = 0; j < nd; ++j) {
-          const double k = K(t, i, j);
-          ku += k * x[j], kw += k * w[j];
-        }
-        r[i] = f[i] - ku - alpha * mass(t, i) * w[i] - beta * kw;
-      }
-      // vb = (v_n + v_{n+1}) / 2: the scheme satisfies M a + C v + K u = F at both step ends, so
-      // the kinetic energy changes by exactly h vb . (F - K u)_avg - h vb^T C vb; booking
-      // h vb^T C vb as dissipated keeps the balance to the Verlet error of the potential part.
-      double vb[kMaxDof];
-      double pd = 0;
-      for (int i = 0; i < nd; ++i) {
-        double an = 0;
-        for (int j = 0; j < nd; ++j) an += Ainv(t, i, j) * r[j];
-        const double vn = v(e, i) + 0.5 * h * (a(e, i) + an);
-        vb[i] = 0.5 * (v(e, i) + vn);
-        pd += alpha * mass(t, i) * vb[i] * vb[i];
-        v(e, i) = vn;
-        a(e, i) = an;
-      }
-      if (beta != 0.0)
-        for (int i = 0; i < nd; ++i) {
-          double kv = 0;
-          for (int j = 0; j < nd; ++j) kv += K(t, i, j) * vb[j];
-          pd += beta * vb[i] * kv;
-        }
-      acc(e, kWork) += h * work;  // constant prescribed forces and Theta: exact F . du
-      acc(e, kDamp) += h * pd;
+    if (drive(e) != 0) {
+      final_driven(e);
       return;
     }
+    final_free<1>(type(e), &e, 1);
+  }
+
+  /// End of step over the element tiles of Model (work items w >= n_tiles: the driven elements).
+  KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag, int w) const {
+    if (w >= n_tiles) {
+      final_driven(driven(w - n_tiles));
+      return;
+    }
+    const int k0 = tile_start(w);
+    final_free<kTile>(type(tile_elem(k0)), tile_elem.data() + k0, tile_start(w + 1) - k0);
+  }
+
+  /// The reaction and the work of driven element e.
+  KOKKOS_INLINE_FUNCTION void final_driven(int e) const {
+    const int t = type(e);
+    double f[kMaxDof], fi[kMaxDof];
+    gather(e, fi);
+    for (int j = 0; j < nd; ++j) f[j] = fi[j] + theta(t, j) + (has_fp ? fp(e, j) : 0.0);
     // Driven: the machine applies M a + C v + K u - F_i - F_p - Theta; with the prescribed loads
     // the external work on the element is int (M a + C v + K u - F_i) . v dt
     //   = change of its kinetic + strain energy + int v^T C v dt - int F_i . du.
@@ -348,27 +329,23 @@ struct Integrator {
     dacc(d, kReact) = drive(e) > 0 ? react : 0.0;
   }
 
-  /// The free part of FinalTag for a tile of up to kTile free elements of one type
-  /// (work items w >= n_tiles are the driven elements, per element). Every per-element sum is
-  /// the one of FinalTag in the same order, so the bits are the same; the matrix entry is loaded
-  /// once per tile and the innermost loops run over the tile's elements (independent
-  /// accumulators: SIMD lanes and no add-latency chain). Padded lanes compute on zeros, never stored.
-  KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag, int w) const {
-    if (w >= n_tiles) {
-      (*this)(FinalTag{}, driven(w - n_tiles));
-      return;
-    }
-    const int k0 = tile_start(w), nb = tile_start(w + 1) - k0, t = type(tile_elem(k0));
-    double x[kMaxDof][kTile], wv[kMaxDof][kTile], f[kMaxDof][kTile], r[kMaxDof][kTile], vo[kMaxDof][kTile],
-        ao[kMaxDof][kTile];
-    double work[kTile], pd[kTile];
-    for (int b = 0; b < kTile; ++b) {
+  /// final_integrate of the free elements elem[0, nb) of type t, W lanes (lanes >= nb padded:
+  /// computed on zeros, never stored). The per-element kernel is the width-1 case, the tiled one
+  /// width kTile: one code, so the two are the same bits by construction. The matrix entry is
+  /// loaded once per tile and the innermost loops run over the lanes (independent accumulators:
+  /// SIMD lanes and no add-latency chain).
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void final_free(int t, const int* elem, int nb) const {
+    double x[kMaxDof][W], wv[kMaxDof][W], f[kMaxDof][W], r[kMaxDof][W], vo[kMaxDof][W],
+        ao[kMaxDof][W];
+    double work[W], pd[W];
+    for (int b = 0; b < W; ++b) {
       work[b] = 0, pd[b] = 0;
       if (b >= nb) {
         for (int j = 0; j < nd; ++j) x[j][b] = wv[j][b] = f[j][b] = vo[j][b] = ao[j][b] = 0;
         continue;
       }
-      const int e = tile_elem(k0 + b);
+      const int e = elem[b];
       double fi[kMaxDof];
       gather(e, fi);
       double wk = 0;
@@ -383,35 +360,35 @@ struct Integrator {
       work[b] = wk;
     }
     for (int i = 0; i < nd; ++i) {
-      double ku[kTile], kw[kTile];
-      for (int b = 0; b < kTile; ++b) ku[b] = 0, kw[b] = 0;
+      double ku[W], kw[W];
+      for (int b = 0; b < W; ++b) ku[b] = 0, kw[b] = 0;
       for (int j = 0; j < nd; ++j) {
         const double k = K(t, i, j);
-        for (int b = 0; b < kTile; ++b) ku[b] += k * x[j][b];
+        for (int b = 0; b < W; ++b) ku[b] += k * x[j][b];
       }
       if (beta != 0.0)  // else beta * kw = 0 adds nothing
         for (int j = 0; j < nd; ++j) {
           const double k = K(t, i, j);
-          for (int b = 0; b < kTile; ++b) kw[b] += k * wv[j][b];
+          for (int b = 0; b < W; ++b) kw[b] += k * wv[j][b];
         }
       const double am = alpha * mass(t, i);
-      for (int b = 0; b < kTile; ++b) r[i][b] = f[i][b] - ku[b] - am * wv[i][b] - beta * kw[b];
+      for (int b = 0; b < W; ++b) r[i][b] = f[i][b] - ku[b] - am * wv[i][b] - beta * kw[b];
     }
-    double vb[kMaxDof][kTile];
+    double vb[kMaxDof][W];
     for (int i = 0; i < nd; ++i) {
-      double an[kTile];
+      double an[W];
       if (ainv_diagonal) {  // the off-diagonal terms are exact zeros: the sum is this one product
         const double c = Ainv(t, i, i);
-        for (int b = 0; b < kTile; ++b) an[b] = c * r[i][b];
+        for (int b = 0; b < W; ++b) an[b] = c * r[i][b];
       } else {
-        for (int b = 0; b < kTile; ++b) an[b] = 0;
+        for (int b = 0; b < W; ++b) an[b] = 0;
         for (int j = 0; j < nd; ++j) {
           const double c = Ainv(t, i, j);
-          for (int b = 0; b < kTile; ++b) an[b] += c * r[j][b];
+          for (int b = 0; b < W; ++b) an[b] += c * r[j][b];
         }
       }
       const double am = alpha * mass(t, i);
-      for (int b = 0; b < kTile; ++b) {
+      for (int b = 0; b < W; ++b) {
         const double vn = vo[i][b] + 0.5 * h * (ao[i][b] + an[b]);
         vb[i][b] = 0.5 * (vo[i][b] + vn);
         pd[b] += am * vb[i][b] * vb[i][b];
@@ -420,16 +397,16 @@ struct Integrator {
     }
     if (beta != 0.0)
       for (int i = 0; i < nd; ++i) {
-        double kv[kTile];
-        for (int b = 0; b < kTile; ++b) kv[b] = 0;
+        double kv[W];
+        for (int b = 0; b < W; ++b) kv[b] = 0;
         for (int j = 0; j < nd; ++j) {
           const double k = K(t, i, j);
-          for (int b = 0; b < kTile; ++b) kv[b] += k * vb[j][b];
+          for (int b = 0; b < W; ++b) kv[b] += k * vb[j][b];
         }
-        for (int b = 0; b < kTile; ++b) pd[b] += beta * vb[i][b] * kv[b];
+        for (int b = 0; b < W; ++b) pd[b] += beta * vb[i][b] * kv[b];
       }
     for (int b = 0; b < nb; ++b) {
-      const int e = tile_elem(k0 + b);
+      const int e = elem[b];
       for (int j = 0; j < nd; ++j) v(e, j) = vo[j][b], a(e, j) = ao[j][b];
       acc(e, kWork) += h * work[b];
       acc(e, kDamp) += h * pd[b];
@@ -493,11 +470,34 @@ void impose_drive(const ExecutionSpace& space, const Integrator<MemOf<ExecutionS
                        });
 }
 
-/// \brief final_integrate, per element or over tiles (it.tiled; same bits).
+/// \brief How final_integrate walks the free elements: per element (false) or over the element
+/// tiles of Model (true; the same bits, Integrator::final_free). A type, chosen once per run.
+template <bool Tiled>
+using ElementTiles = std::bool_constant<Tiled>;
+
+/// \brief initial_integrate: u_{n+1} of the free elements, the prescribed motion of the driven ones.
 template <class ExecutionSpace>
-void final_integrate(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
+void initial_integrate(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
+  Kokkos::Profiling::ScopedRegion r("nacre::dyn::initial_integrate");
+  Kokkos::parallel_for("nacre::dyn::initial_integrate", Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem),
+                       it);
+}
+
+/// \brief The interface force at u_{n+1} (one row of op.out per interface).
+template <class ExecutionSpace>
+void force(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
+  NACRE_ASSERT(op.out.extent(0) >= std::size_t(n_iface), "force: a force row per interface");
+  Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
+  Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
+                       op);
+}
+
+/// \brief final_integrate: v_{n+1}, a_{n+1} and the books, per element or over the tiles.
+template <class ExecutionSpace, bool Tiled>
+void final_integrate(const ExecutionSpace& space, ElementTiles<Tiled>, const Integrator<MemOf<ExecutionSpace>>& it,
+                     int n_elem) {
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
-  if (it.tiled)
+  if constexpr (Tiled)
     Kokkos::parallel_for("nacre::dyn::final_integrate_tiled",
                          Kokkos::RangePolicy<ExecutionSpace, FinalTileTag>(space, 0, it.n_tiles + it.n_driven), it);
   else
@@ -505,29 +505,13 @@ void final_integrate(const ExecutionSpace& space, const Integrator<MemOf<Executi
                          it);
 }
 
-/// \brief One step's three phases: initial_integrate, interface force, final_integrate.
-template <class ExecutionSpace>
-void verlet_step(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it,
+/// \brief One velocity-Verlet step (UE, BE): initial_integrate, force, final_integrate.
+template <class ExecutionSpace, bool Tiled>
+void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, const Integrator<MemOf<ExecutionSpace>>& it,
                  const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface) {
-  {
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::initial_integrate");
-    Kokkos::parallel_for("nacre::dyn::initial_integrate",
-                         Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem), it);
-  }
-  {
-    Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
-    Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
-                         op);
-  }
-  final_integrate(space, it, n_elem);
-}
-
-/// \brief Interface forces only (into op.out), e.g. for finite-difference tests.
-template <class ExecutionSpace>
-void interface_forces(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
-  NACRE_ASSERT(op.out.extent(0) >= std::size_t(n_iface), "interface_forces: a force row per interface");
-  Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
-                       op);
+  initial_integrate(space, it, n_elem);
+  force(space, op, n_iface);
+  final_integrate(space, tiles, it, n_elem);
 }
 
 /// \brief Sum of one accumulator column over the first n rows (deterministic): AccView over

@@ -125,8 +125,14 @@ using StateArrays = std::map<std::string, std::vector<double>>;
 /// \brief The dynamic solver (pimpl: Kokkos views and the element tables stay in src/dyn).
 class Simulation {
 public:
+  /// \brief Builds the model and the state at t = 0 on `space` (the instance every later call of
+  /// this run uses unless advance names another).
+  Simulation(const Kokkos::DefaultExecutionSpace& space, const Params& p, const geometry::Specimen& s,
+             const geometry::Interfaces& f, const deck::Mortar& mortar);
+  /// \brief As above on a default-constructed instance (tests, benchmarks).
   Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-             const deck::Mortar& mortar);
+             const deck::Mortar& mortar)
+      : Simulation(Kokkos::DefaultExecutionSpace{}, p, s, f, mortar) {}
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
@@ -202,10 +208,15 @@ private:
 
 /// \brief Largest stable step of p.method for this specimen: bisection over dt, each trial a
 /// fresh Simulation advanced `steps` steps; stable = finite and kinetic energy below a bound from
-/// the work done (stated in docs/dynamics.md). Relative tolerance `rtol`.
-[[nodiscard]] double critical_step(const Params& p, const geometry::Specimen& s,
-                                   const geometry::Interfaces& f, const deck::Mortar& mortar,
-                                   long steps = 2000, double rtol = 0.01);
+/// the work done (stated in docs/dynamics.md). Relative tolerance `rtol`. Every trial runs on `space`.
+[[nodiscard]] double critical_step(const Kokkos::DefaultExecutionSpace& space, const Params& p,
+                                   const geometry::Specimen& s, const geometry::Interfaces& f,
+                                   const deck::Mortar& mortar, long steps = 2000, double rtol = 0.01);
+/// \brief As above on a default-constructed instance (tests).
+[[nodiscard]] inline double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                                          const deck::Mortar& mortar, long steps = 2000, double rtol = 0.01) {
+  return critical_step(Kokkos::DefaultExecutionSpace{}, p, s, f, mortar, steps, rtol);
+}
 
 /// \brief Rayleigh (alpha_d, beta_d) of Table 4.2 (MODEL.md §5 unit reading) for the nearest
 /// tabulated brick count and stiffness ratio.
