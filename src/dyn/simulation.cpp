@@ -104,23 +104,29 @@ struct Simulation::Impl {
   }
 
   BieIntegrator<Mem> bie_integrator() const {
-    return BieIntegrator<Mem>{integrator(), bie.slot_of_elem, pn, vn, R, true, bie.Jinv,
-                              bie.block_lower && p.bie_block_structure, bie.jq, bie.jr, bie.Jv,
-                              bie.vfirst && p.bie_block_structure};
+    return BieIntegrator<Mem>{integrator(), bie.slot_of_elem, pn, vn, R, bie.Jinv, bie.jq, bie.jr, bie.Jv};
   }
-  /// Picks BIE's step overload and fills its plan (after the tables and n_tiles are set).
+  /// Picks BIE's step overload and fills its plan (after the tables and n_tiles are set): the
+  /// scheme, whether the tiles are fused, and (fused) the form of the J^-1 apply the tables allow
+  /// (Params::bie_block_structure = false keeps the dense form).
   void choose_bie_step() {
     if (!is_bie()) return;
     bie_plan = BieStepPlan{p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force, m.n_elem, m.n_iface, n_tiles};
-    const bool split = p.bie_scheme == BieScheme::split, fused = bie_fused();
-    if (split) bie_step_fn = fused ? &bie_step_of<BieSplitScheme, true> : &bie_step_of<BieSplitScheme, false>;
-    else bie_step_fn = fused ? &bie_step_of<BieIterateScheme, true> : &bie_step_of<BieIterateScheme, false>;
+    if (p.bie_scheme == BieScheme::split) bie_step_fn = pick_bie_step<BieSplitScheme>();
+    else bie_step_fn = pick_bie_step<BieIterateScheme>();
   }
-  /// bie_step's overload for (Scheme, Fused) behind one function-pointer type.
-  template <class Scheme, bool Fused>
+  template <class Scheme>
+  BieStepFn pick_bie_step() const {
+    if (!bie_fused()) return &bie_step_of<Scheme, false, JinvDense>;
+    if (p.bie_block_structure && bie.vfirst) return &bie_step_of<Scheme, true, JinvVelocityFirst>;
+    if (p.bie_block_structure && bie.block_lower) return &bie_step_of<Scheme, true, JinvBlockLower>;
+    return &bie_step_of<Scheme, true, JinvDense>;
+  }
+  /// bie_step's overload for (Scheme, Fused, Jinv) behind one function-pointer type.
+  template <class Scheme, bool Fused, class Jinv>
   static void bie_step_of(const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
                           const BieSolveOp<Mem>& so, const BieStepPlan& pl) {
-    bie_step(s, Scheme{}, std::bool_constant<Fused>{}, it, op, so, pl);
+    bie_step(s, Scheme{}, std::bool_constant<Fused>{}, Jinv{}, it, op, so, pl);
   }
 
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).

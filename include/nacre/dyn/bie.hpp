@@ -106,12 +106,25 @@ struct BieStartTag {};
 struct BieResidualTag {};
 struct BieUpdateTag {};
 struct BieFinalTag {};
+struct BieAccelTag {};  ///< a = a(x) of the current state only (start-up: no books)
 // fused, tiled (shared_gemm with the tiled element apply): one kernel per phase over the element
 // tiles of Model (kTile free elements of one type), the residual kept in registers / L1 and
 // J^-1 applied to it in place: no residual block R in memory, no slot order
+// How the fused tiles apply J^-1, a type chosen once per run (BieTables says which applies):
+struct JinvDense {};          ///< the dense 2nd x 2nd product
+struct JinvBlockLower {};     ///< C = alpha M (BieTables::block_lower): first nd columns and (jq, jr)
+struct JinvVelocityFirst {};  ///< beta_d != 0 (BieTables::vfirst): y_v = Jv g~, y_p = g~_p + h/2 y_v
+/// PositionsOnly: the start applies only the position rows of J^-1 and leaves v at v_n, for the
+/// reduced last pass (BieIterFinalLinearTileTag, C = 0, two iterations), which takes
+/// v_{n+1} = v_n + h/2 (a_n + a(x_1)) and never reads the first iterate's velocity (the interface
+/// force between reads u only): half of the start's J^-1 apply and its v stores skipped; u_1 and
+/// every end-of-step value keep their bits (rows are summed independently).
+template <class Jinv, bool PositionsOnly = false>
 struct BieStartTileTag {};
+template <class Jinv>
 struct BieIterTileTag {};
 struct BieFinalTileTag {};
+template <class Jinv>
 struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
 struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
 // the split step (BieScheme::split): start = half kick + the linear midpoint's residual, one J^-1
@@ -119,6 +132,7 @@ struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lowe
 struct BieSplitInitTag {};  ///< start-up: a = phi = M^-1 F of the initial state
 struct BieSplitStartTag {};
 struct BieSplitFinalTag {};
+template <class Jinv>
 struct BieSplitStartTileTag {};
 struct BieSplitFinalTileTag {};
 
@@ -129,35 +143,27 @@ struct BieIntegrator {
   Integrator<MemorySpace> ex;
   Kokkos::View<const int*, MemorySpace> slot_of_elem;
   DofView<MemorySpace> pn, vn, R;  ///< p_n, v_n per element; residual/correction per slot (unfused path)
-  bool book = true;                ///< BieFinalTag: accumulate work and damping (false: a only)
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> J;  ///< J^-1 per type (fused path)
-  /// J^-1 determined by its first nd columns and (jq, jr) (BieTables::block_lower): the tiled
-  /// apply scales g_p -= jq g_v (dofs with mass; skipped when jq = 0), sums the first nd columns
-  /// and adds jr g_v on the velocity rows (C = 0: the identity), skipping the rest (false: the
-  /// dense product; without damping the same bits on such a matrix up to the sign of a zero).
-  bool block_lower = false;
+  /// JinvBlockLower: J^-1 determined by its first nd columns and (jq, jr): the tiled apply scales
+  /// g_p -= jq g_v (dofs with mass; skipped when jq = 0), sums the first nd columns and adds jr g_v
+  /// on the velocity rows (C = 0: the identity), skipping the rest (JinvDense on such a matrix:
+  /// without damping the same bits up to the sign of a zero).
   double jq = 0.0, jr = 1.0;  ///< BieTables::jq, jr
-  /// The velocity-first apply (BieTables::vfirst, beta_d != 0): y_v = Jv [g~_p; g_v], y_p = g~_p + h/2 y_v.
+  /// JinvVelocityFirst (beta_d != 0): y_v = Jv [g~_p; g_v], y_p = g~_p + h/2 y_v.
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> Jv;
-  bool vfirst = false;
-  /// BieStartTileTag applies only the position rows of J^-1 and leaves v at v_n: bie_step sets it
-  /// when the reduced last pass (BieIterFinalLinearTileTag, C = 0, two iterations) follows, which
-  /// takes v_{n+1} = v_n + h/2 (a_n + a(x_1)) and never reads the first iterate's velocity (the
-  /// interface force between reads u only). Half of the start's J^-1 apply and its v stores
-  /// skipped; u_1 and every end-of-step value keep their bits (rows are summed independently).
-  bool start_positions_only = false;
 
   /// g~_p = g_p - jq g_v on the dofs with mass (the block apply's input); nothing when jq = 0.
+  template <class Jinv>
   KOKKOS_INLINE_FUNCTION void tile_block_scale(int t, double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int nd = ex.nd;
-    if (vfirst) {  // g~_p = g_p - h/2 g_v
+    if constexpr (std::is_same_v<Jinv, JinvVelocityFirst>) {  // g~_p = g_p - h/2 g_v
       const double hh = 0.5 * ex.h;
       for (int j = 0; j < nd; ++j)
         if (ex.mass(t, j) > 0)
           for (int b = 0; b < kTile; ++b) g[j][b] -= hh * g[nd + j][b];
       return;
     }
-    if (!block_lower || jq == 0.0) return;
+    if (!std::is_same_v<Jinv, JinvBlockLower> || jq == 0.0) return;
     for (int j = 0; j < nd; ++j)
       if (ex.mass(t, j) > 0)
         for (int b = 0; b < kTile; ++b) g[j][b] -= jq * g[nd + j][b];
@@ -180,11 +186,13 @@ struct BieIntegrator {
 
   /// y[q] = sum_j J(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of J^-1 (dense, or the block
   /// structure: the same terms in the same order less the exact zeros).
+  template <class Jinv>
   KOKKOS_INLINE_FUNCTION void tile_jinv_rows(int t, int i0, int nq, const double (*KOKKOS_RESTRICT g)[kTile],
                                              double (*KOKKOS_RESTRICT y)[kTile]) const {
+    constexpr bool block_lower = std::is_same_v<Jinv, JinvBlockLower>;
     const int nd = ex.nd, n = block_lower ? nd : 2 * nd;
     tile_rows(J, t, i0, nq, n, g, y);
-    if (block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
+    if constexpr (block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
       for (int q = 0; q < nq; ++q)
         if (i0 + q >= nd) {
           const double r = ex.mass(t, i0 + q - nd) > 0 ? jr : 1.0;
@@ -217,60 +225,30 @@ struct BieIntegrator {
     return m > 0 ? 1.0 / m : 0.0;
   }
 
+  // ---- per element (the unfused path: the residual goes to R for a separate J^-1 apply). Each
+  // kernel is the lane code below at width 1 on one element; the fused tile kernels run the same
+  // code at width kTile: one code, so the two paths give the same bits by construction.
+
   /// Driven: impose t_{n+1}. Free: keep (p_n, v_n), residual at x^0 = x_n: G = (h v_n + h^2/2 a_n, h a_n).
   KOKKOS_INLINE_FUNCTION void operator()(BieStartTag, int e) const {
     if (ex.drive(e) != 0) {
       ex(InitialTag{}, e);
       return;
     }
-    const int s = slot_of_elem(e), nd = ex.nd;
-    const double h = ex.h;
-    for (int j = 0; j < nd; ++j) {
-      const double p = ex.u(e, j), v = ex.v(e, j), a = ex.a(e, j);
-      pn(e, j) = p, vn(e, j) = v;
-      R(s, j) = h * v + 0.5 * h * h * a;
-      R(s, nd + j) = h * a;
-    }
-  }
-
-  /// The explicit force of element e: the interface force gathered in a fixed order + Theta + F_p.
-  KOKKOS_INLINE_FUNCTION void explicit_force(int e, int t, double* f) const {
-    ex.gather(e, f);
-    for (int j = 0; j < ex.nd; ++j) f[j] += ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0);
-  }
-
-  /// a(x) of the current iterate (interface force gathered in a fixed order).
-  KOKKOS_INLINE_FUNCTION void accel(int e, int t, double* ax) const {
-    const int nd = ex.nd;
-    double f[kMaxDof], w[kMaxDof];
-    explicit_force(e, t, f);
-    for (int j = 0; j < nd; ++j) w[j] = ex.u(e, j) + ex.beta * ex.v(e, j);
-    for (int i = 0; i < nd; ++i) {
-      double kw = 0;
-      for (int j = 0; j < nd; ++j) kw += ex.K(t, i, j) * w[j];
-      ax[i] = minv(t, i) * (f[i] - kw) - ex.alpha * ex.v(e, i);
-    }
+    double g[kMaxBie][1];
+    start_lanes<1>(&e, 1, g);
+    store_residual(e, g);
   }
 
   /// Residual G(x^k) of eq. 4.6 at the current iterate (u, v) with the current interface force.
   KOKKOS_INLINE_FUNCTION void operator()(BieResidualTag, int e) const {
     if (ex.drive(e) != 0) return;
-    const int t = ex.type(e), s = slot_of_elem(e), nd = ex.nd;
-    const double h = ex.h;
-    double ax[kMaxDof], dp[kMaxDof], dv[kMaxDof], w[kMaxDof];
-    accel(e, t, ax);
-    for (int j = 0; j < nd; ++j) {
-      dp[j] = ex.u(e, j) - pn(e, j), dv[j] = ex.v(e, j) - vn(e, j);
-      w[j] = dp[j] + ex.beta * dv[j];
-    }
-    for (int i = 0; i < nd; ++i) {
-      double kw = 0;
-      for (int j = 0; j < nd; ++j) kw += ex.K(t, i, j) * w[j];
-      const double kc = minv(t, i) * kw + ex.alpha * dv[i];  // M^-1 (K dp + C dv)
-      const double an = ex.a(e, i);
-      R(s, i) = h * vn(e, i) + 0.5 * h * h * an - 0.25 * h * h * kc - dp[i];
-      R(s, nd + i) = 0.5 * h * (an + ax[i]) - dv[i];
-    }
+    const int t = ex.type(e);
+    double u[kMaxDof][1], v[kMaxDof][1], ax[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1], a0[kMaxDof][1],
+        g[kMaxBie][1];
+    tile_accel<1>(t, &e, 1, u, v, ax);
+    tile_residual<1>(t, &e, 1, u, v, ax, p0, v0, a0, g);
+    store_residual(e, g);
   }
 
   /// x += J^-1 G (R holds the correction after the solve).
@@ -280,53 +258,27 @@ struct BieIntegrator {
     for (int j = 0; j < nd; ++j) ex.u(e, j) += R(s, j), ex.v(e, j) += R(s, nd + j);
   }
 
-  /// The end-of-step books of element e (type t) from its u, v and pn, vn: work of Theta + F_p
-  /// over dp, damping dp . C (v + vn)/2 (implicit midpoint), the m-weighted |G_v|^2 with
-  /// G_v = h/2 (a_n + ax) - dv (ax = a(x_{n+1}); nullptr: 0, the split step iterates nothing) and
-  /// |dv|^2, dv = v - vn. The same sums in the same order as tile_books.
-  KOKKOS_INLINE_FUNCTION void elem_books(int e, int t, const double* ax, double& work, double& pd, double& g2,
-                                         double& d2) const {
-    const int nd = ex.nd;
-    const double h = ex.h;
-    double dp[kMaxDof], vm[kMaxDof];
-    work = pd = g2 = d2 = 0;
-    for (int j = 0; j < nd; ++j) {
-      dp[j] = ex.u(e, j) - pn(e, j);
-      vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
-      work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * dp[j];
-    }
-    for (int i = 0; i < nd; ++i) {
-      double kv = 0;
-      if (ex.beta != 0.0)  // else beta K vm adds nothing
-        for (int j = 0; j < nd; ++j) kv += ex.K(t, i, j) * vm[j];
-      const double m = ex.mass(t, i), dv = ex.v(e, i) - vn(e, i);
-      pd += dp[i] * (ex.alpha * m * vm[i] + (ex.beta != 0.0 ? ex.beta * kv : 0.0));
-      const double gv = ax ? 0.5 * h * (ex.a(e, i) + ax[i]) - dv : 0.0;
-      g2 += m * gv * gv, d2 += m * dv * dv;
-    }
-  }
-
   /// End of step: a_{n+1} = a(x_{n+1}); work of F_p + Theta over dp, damping dp . C v_mid
   /// (implicit midpoint); acc(e, kBieG2 / kBieD2) = m-weighted |G_v|^2 and |dv|^2 of the final state.
   /// Driven elements: reaction and work as in the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieFinalTag, int e) const {
     if (ex.drive(e) != 0) {
-      if (book) ex(FinalTag{}, e);
+      ex(FinalTag{}, e);
       return;
     }
-    const int t = ex.type(e), nd = ex.nd;
-    double ax[kMaxDof];
-    accel(e, t, ax);
-    if (!book) {
-      for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
-      return;
-    }
-    double work, pd, g2, d2;
-    elem_books(e, t, ax, work, pd, g2, d2);
-    for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j];
-    store_books(e, work, pd, g2, d2);
+    final_lanes<1, true>(ex.type(e), &e, 1);
   }
 
+  /// a = a(x) of the current state (free elements; the start-up's a_0): no books.
+  KOKKOS_INLINE_FUNCTION void operator()(BieAccelTag, int e) const {
+    if (ex.drive(e) == 0) final_lanes<1, false>(ex.type(e), &e, 1);
+  }
+
+  /// The residual of element e into its slot's row of R.
+  KOKKOS_INLINE_FUNCTION void store_residual(int e, const double (*g)[1]) const {
+    const int s = slot_of_elem(e);
+    for (int j = 0; j < 2 * ex.nd; ++j) R(s, j) = g[j][0];
+  }
   // ---- the split step (BieScheme::split, docs/methods.md "The split step"). F = interface force
   // + Theta + F_p (explicit). Between split steps the state is (p, v, phi) with phi = M^-1 F held
   // in a (not the acceleration: the step needs only phi, and storing it saves the K applies that
@@ -347,9 +299,9 @@ struct BieIntegrator {
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitInitTag, int e) const {
     if (ex.drive(e) != 0) return;
     const int t = ex.type(e);
-    double f[kMaxDof];
-    explicit_force(e, t, f);
-    for (int j = 0; j < ex.nd; ++j) ex.a(e, j) = minv(t, j) * f[j];
+    double f[kMaxDof][1], v[kMaxDof][1];
+    tile_load<1>(t, &e, 1, f, nullptr, v);
+    for (int j = 0; j < ex.nd; ++j) ex.a(e, j) = minv(t, j) * f[j][0];
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTag, int e) const {
@@ -357,51 +309,33 @@ struct BieIntegrator {
       ex(InitialTag{}, e);
       return;
     }
-    const int t = ex.type(e), s = slot_of_elem(e), nd = ex.nd;
-    const double h = ex.h;
-    double p[kMaxDof], v[kMaxDof], w[kMaxDof], kw[kMaxDof];
-    for (int j = 0; j < nd; ++j) {
-      p[j] = ex.u(e, j), v[j] = ex.v(e, j) + 0.5 * h * ex.a(e, j);  // v+ = v_n + h/2 phi_n (a holds phi)
-      w[j] = p[j] + ex.beta * v[j];
-    }
-    for (int i = 0; i < nd; ++i) {
-      kw[i] = 0;
-      for (int j = 0; j < nd; ++j) kw[i] += ex.K(t, i, j) * w[j];
-    }
-    for (int i = 0; i < nd; ++i) {
-      const double al = -minv(t, i) * kw[i] - ex.alpha * v[i];
-      R(s, i) = h * v[i] + 0.5 * h * h * al;
-      R(s, nd + i) = h * al;
-      pn(e, i) = p[i], vn(e, i) = v[i], ex.v(e, i) = v[i];
-    }
+    double p[kMaxDof][1], v[kMaxDof][1], g[kMaxBie][1];
+    split_start_lanes<1>(ex.type(e), &e, 1, p, v, g);
+    store_residual(e, g);
+    for (int j = 0; j < ex.nd; ++j) pn(e, j) = p[j][0], vn(e, j) = v[j][0], ex.v(e, j) = v[j][0];
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTag, int e) const {
     if (ex.drive(e) != 0) {
-      if (book) ex(FinalTag{}, e);
+      ex(FinalTag{}, e);
       return;
     }
-    const int t = ex.type(e), nd = ex.nd;
-    const double h = ex.h;
-    double f[kMaxDof];
-    explicit_force(e, t, f);
-    if (book) {
-      double work, pd, g2, d2;
-      elem_books(e, t, nullptr, work, pd, g2, d2);
-      store_books(e, work, pd, g2, d2);  // g2 = 0: no iteration, nothing left unconverged
+    const int t = ex.type(e);
+    {  // the books from the stored p_n, v+ and this p_{n+1}, v-
+      double u[kMaxDof][1], v[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1];
+      for (int j = 0; j < ex.nd; ++j) u[j][0] = ex.u(e, j), v[j][0] = ex.v(e, j), p0[j][0] = pn(e, j), v0[j][0] = vn(e, j);
+      double work[1], pd[1], g2[1], d2[1];
+      tile_books<1>(t, &e, 1, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2);
+      store_books(e, work[0], pd[0], g2[0], d2[0]);  // g2 = 0: no iteration, nothing left unconverged
     }
-    for (int j = 0; j < nd; ++j) {
-      const double phi = minv(t, j) * f[j];
-      ex.v(e, j) += 0.5 * h * phi;
-      ex.a(e, j) = phi;
-    }
+    split_kick_lanes<1>(t, &e, 1);
   }
 
   /// End-of-step work item w beyond the tiles: a driven element, booked as the explicit methods
   /// (FinalTag when book). True when w was such an item (nothing else to do).
   KOKKOS_INLINE_FUNCTION bool driven_final(int w) const {
     if (w < ex.n_tiles) return false;
-    if (book) ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+    ex(FinalTag{}, ex.driven(w - ex.n_tiles));
     return true;
   }
 
@@ -412,43 +346,46 @@ struct BieIntegrator {
     ex.acc(e, kBieG2) = g2, ex.acc(e, kBieD2) = d2;
   }
 
-  // ---- fused tiled path. Every per-element sum is the one of the unfused kernels in the same
-  // order (and J^-1 is applied in shared_gemm's order), so the two paths give the same bits.
+  // ---- lanes: W elements of one type side by side (W = 1: the per-element kernels above; W =
+  // kTile: the fused tile kernels below, J^-1 applied in shared_gemm's order). Padded lanes
+  // compute on zeros and are never stored.
 
   /// out[i][b] = sum_j K(t, i, j) in[j][b] for the tile's lanes.
   /// (Restrict and a local accumulator: the stores cannot alias the matrix or the functor, so
   /// the accumulators stay in registers.)
-  KOKKOS_INLINE_FUNCTION void tile_K(int t, const double (*KOKKOS_RESTRICT in)[kTile],
-                                     double (*KOKKOS_RESTRICT out)[kTile]) const {
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_K(int t, const double (*KOKKOS_RESTRICT in)[W],
+                                     double (*KOKKOS_RESTRICT out)[W]) const {
     const int nd = ex.nd;
     for (int i = 0; i < nd; ++i) {
-      double y[kTile];
-      for (int b = 0; b < kTile; ++b) y[b] = 0;
+      double y[W];
+      for (int b = 0; b < W; ++b) y[b] = 0;
       for (int j = 0; j < nd; ++j) {
         const double k = ex.K(t, i, j);
-        for (int b = 0; b < kTile; ++b) y[b] += k * in[j][b];
+        for (int b = 0; b < W; ++b) y[b] += k * in[j][b];
       }
-      for (int b = 0; b < kTile; ++b) out[i][b] = y[b];
+      for (int b = 0; b < W; ++b) out[i][b] = y[b];
     }
   }
 
   /// Loads of a tile: f = gathered interface force + Theta + F_p, u (unless nullptr) and v
   /// (padded lanes zero).
-  KOKKOS_INLINE_FUNCTION void tile_load(int t, int k0, int nb, double (*KOKKOS_RESTRICT f)[kTile],
-                                        double (*KOKKOS_RESTRICT u)[kTile], double (*KOKKOS_RESTRICT v)[kTile]) const {
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_load(int t, const int* el, int nb, double (*KOKKOS_RESTRICT f)[W],
+                                        double (*KOKKOS_RESTRICT u)[W], double (*KOKKOS_RESTRICT v)[W]) const {
     const int nd = ex.nd;
-    for (int b = 0; b < kTile; ++b) {
+    for (int b = 0; b < W; ++b) {
       if (b >= nb) {
         for (int j = 0; j < nd; ++j) v[j][b] = f[j][b] = 0;
         if (u)
           for (int j = 0; j < nd; ++j) u[j][b] = 0;
         continue;
       }
-      const int e = ex.tile_elem(k0 + b);
+      const int e = el[b];
       double fi[kMaxDof];
       ex.gather(e, fi);
       for (int j = 0; j < nd; ++j) {
-        f[j][b] = fi[j] + (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0));  // as accel's f += ...
+        f[j][b] = fi[j] + (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0));
         v[j][b] = ex.v(e, j);
       }
       if (u)
@@ -456,41 +393,44 @@ struct BieIntegrator {
     }
   }
 
-  /// a(x) for the tile's lanes (as accel) from f, u, v of tile_load.
-  KOKKOS_INLINE_FUNCTION void tile_acc(int t, const double (*KOKKOS_RESTRICT f)[kTile],
-                                       const double (*KOKKOS_RESTRICT u)[kTile], const double (*KOKKOS_RESTRICT v)[kTile],
-                                       double (*KOKKOS_RESTRICT ax)[kTile]) const {
+  /// a(x) = M^-1 (f - K (u + beta v)) - alpha v for the lanes, from f, u, v of tile_load.
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_acc(int t, const double (*KOKKOS_RESTRICT f)[W],
+                                       const double (*KOKKOS_RESTRICT u)[W], const double (*KOKKOS_RESTRICT v)[W],
+                                       double (*KOKKOS_RESTRICT ax)[W]) const {
     const int nd = ex.nd;
-    double w[kMaxDof][kTile], kw[kMaxDof][kTile];
+    double w[kMaxDof][W], kw[kMaxDof][W];
     for (int j = 0; j < nd; ++j)
-      for (int b = 0; b < kTile; ++b) w[j][b] = u[j][b] + ex.beta * v[j][b];
+      for (int b = 0; b < W; ++b) w[j][b] = u[j][b] + ex.beta * v[j][b];
     tile_K(t, w, kw);
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) ax[i][b] = mi * (f[i][b] - kw[i][b]) - ex.alpha * v[i][b];
+      for (int b = 0; b < W; ++b) ax[i][b] = mi * (f[i][b] - kw[i][b]) - ex.alpha * v[i][b];
     }
   }
 
-  /// a(x) of the current iterate for the tile's lanes (as accel); also loads u and v.
-  KOKKOS_INLINE_FUNCTION void tile_accel(int t, int k0, int nb, double (*KOKKOS_RESTRICT u)[kTile],
-                                         double (*KOKKOS_RESTRICT v)[kTile], double (*KOKKOS_RESTRICT ax)[kTile]) const {
-    double f[kMaxDof][kTile];
-    tile_load(t, k0, nb, f, u, v);
+  /// a(x) of the current iterate for the lanes; also loads u and v.
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_accel(int t, const int* el, int nb, double (*KOKKOS_RESTRICT u)[W],
+                                         double (*KOKKOS_RESTRICT v)[W], double (*KOKKOS_RESTRICT ax)[W]) const {
+    double f[kMaxDof][W];
+    tile_load(t, el, nb, f, u, v);
     tile_acc(t, f, u, v, ax);
   }
 
-  /// Residual G(x) of eq. 4.6 for the tile (as BieResidualTag) from the iterate u, v, its a(x)
+  /// Residual G(x) of eq. 4.6 for the lanes from the iterate u, v, its a(x)
   /// ax, and p_n, v_n, a_n (loaded here into pn0, vn0, an0 for the caller; padded lanes zero).
-  KOKKOS_INLINE_FUNCTION void tile_residual(int t, int k0, int nb, const double (*KOKKOS_RESTRICT u)[kTile],
-                                            const double (*KOKKOS_RESTRICT v)[kTile],
-                                            const double (*KOKKOS_RESTRICT ax)[kTile], double (*KOKKOS_RESTRICT pn0)[kTile],
-                                            double (*KOKKOS_RESTRICT vn0)[kTile], double (*KOKKOS_RESTRICT an0)[kTile],
-                                            double (*KOKKOS_RESTRICT g)[kTile]) const {
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_residual(int t, const int* el, int nb, const double (*KOKKOS_RESTRICT u)[W],
+                                            const double (*KOKKOS_RESTRICT v)[W],
+                                            const double (*KOKKOS_RESTRICT ax)[W], double (*KOKKOS_RESTRICT pn0)[W],
+                                            double (*KOKKOS_RESTRICT vn0)[W], double (*KOKKOS_RESTRICT an0)[W],
+                                            double (*KOKKOS_RESTRICT g)[W]) const {
     const int nd = ex.nd;
     const double h = ex.h;
-    double dp[kMaxDof][kTile], dv[kMaxDof][kTile], wv[kMaxDof][kTile], kw[kMaxDof][kTile];
-    for (int b = 0; b < kTile; ++b) {
-      const int e = ex.tile_elem(k0 + (b < nb ? b : 0));
+    double dp[kMaxDof][W], dv[kMaxDof][W], wv[kMaxDof][W], kw[kMaxDof][W];
+    for (int b = 0; b < W; ++b) {
+      const int e = el[b < nb ? b : 0];
       for (int j = 0; j < nd; ++j) {
         const double p0 = b < nb ? pn(e, j) : 0.0, v0 = b < nb ? vn(e, j) : 0.0;
         pn0[j][b] = p0, vn0[j][b] = v0, an0[j][b] = b < nb ? ex.a(e, j) : 0.0;
@@ -501,7 +441,7 @@ struct BieIntegrator {
     tile_K(t, wv, kw);
     for (int i = 0; i < nd; ++i) {
       const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) {
+      for (int b = 0; b < W; ++b) {
         const double kc = mi * kw[i][b] + ex.alpha * dv[i][b];
         g[i][b] = h * vn0[i][b] + 0.5 * h * h * an0[i][b] - 0.25 * h * h * kc - dp[i][b];
         g[nd + i][b] = 0.5 * h * (an0[i][b] + ax[i][b]) - dv[i][b];
@@ -510,18 +450,19 @@ struct BieIntegrator {
   }
 
   /// The books of the end of the step (as BieFinalTag) for the tile: work, damping, residual norms.
-  KOKKOS_INLINE_FUNCTION void tile_books(int t, int k0, int nb, const double (*KOKKOS_RESTRICT u)[kTile],
-                                         const double (*KOKKOS_RESTRICT v)[kTile],
-                                         const double (*KOKKOS_RESTRICT ax)[kTile], const double (*KOKKOS_RESTRICT pn0)[kTile],
-                                         const double (*KOKKOS_RESTRICT v0)[kTile], const double (*KOKKOS_RESTRICT a0)[kTile],
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void tile_books(int t, const int* el, int nb, const double (*KOKKOS_RESTRICT u)[W],
+                                         const double (*KOKKOS_RESTRICT v)[W],
+                                         const double (*KOKKOS_RESTRICT ax)[W], const double (*KOKKOS_RESTRICT pn0)[W],
+                                         const double (*KOKKOS_RESTRICT v0)[W], const double (*KOKKOS_RESTRICT a0)[W],
                                          double* work, double* pd, double* g2, double* d2) const {
     const int nd = ex.nd;
     const double h = ex.h;
-    double dp[kMaxDof][kTile], vm[kMaxDof][kTile], kv[kMaxDof][kTile];
-    for (int b = 0; b < kTile; ++b) {
+    double dp[kMaxDof][W], vm[kMaxDof][W], kv[kMaxDof][W];
+    for (int b = 0; b < W; ++b) {
       work[b] = 0;
       const bool live = b < nb;
-      const int e = ex.tile_elem(k0 + (live ? b : 0));
+      const int e = el[live ? b : 0];
       for (int j = 0; j < nd; ++j) {
         dp[j][b] = u[j][b] - pn0[j][b];
         vm[j][b] = 0.5 * (v[j][b] + v0[j][b]);
@@ -529,10 +470,10 @@ struct BieIntegrator {
       }
     }
     if (ex.beta != 0.0) tile_K(t, vm, kv);  // else beta K vm adds nothing
-    for (int b = 0; b < kTile; ++b) pd[b] = g2[b] = d2[b] = 0;
+    for (int b = 0; b < W; ++b) pd[b] = g2[b] = d2[b] = 0;
     for (int i = 0; i < nd; ++i) {
       const double m = ex.mass(t, i);
-      for (int b = 0; b < kTile; ++b) {
+      for (int b = 0; b < W; ++b) {
         pd[b] += dp[i][b] * (ex.alpha * m * vm[i][b] + (ex.beta != 0.0 ? ex.beta * kv[i][b] : 0.0));
         const double dvi = v[i][b] - v0[i][b];
         const double gv = ax ? 0.5 * h * (a0[i][b] + ax[i][b]) - dvi : 0.0;  // ax = nullptr: the split, no residual
@@ -544,60 +485,59 @@ struct BieIntegrator {
   /// y = J^-1 G for the tile (G in g, rows [0, nd) positions, [nd, 2 nd) velocities; g is
   /// scaled in place for the block forms): the velocity-first form, or the rows of J^-1 (dense or
   /// block structure) in blocks of kRowBlock accumulators. Every tiled J^-1 apply goes through here.
+  template <class Jinv>
   KOKKOS_INLINE_FUNCTION void tile_correction(int t, double (*KOKKOS_RESTRICT g)[kTile],
                                               double (*KOKKOS_RESTRICT y)[kTile]) const {
     const int n = 2 * ex.nd;
-    tile_block_scale(t, g);
-    if (vfirst) {
+    tile_block_scale<Jinv>(t, g);
+    if constexpr (std::is_same_v<Jinv, JinvVelocityFirst>) {
       tile_vfirst(t, g, y);
-      return;
-    }
-    for (int i0 = 0; i0 < n; i0 += kRowBlock) {
-      const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
-      tile_jinv_rows(t, i0, nq, g, y + i0);
+    } else {
+      for (int i0 = 0; i0 < n; i0 += kRowBlock) {
+        const int nq = n - i0 < kRowBlock ? n - i0 : kRowBlock;
+        tile_jinv_rows<Jinv>(t, i0, nq, g, y + i0);
+      }
     }
   }
 
   /// x += J^-1 G for the tile's elements.
-  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, int k0, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
+  template <class Jinv>
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, const int* el, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int nd = ex.nd;
     double y[kMaxBie][kTile];
-    tile_correction(t, g, y);
+    tile_correction<Jinv>(t, g, y);
     for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
+      const int e = el[b];
       for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b], ex.v(e, j) += y[nd + j][b];
     }
   }
 
   /// u += (J^-1 G)_p for the tile's elements, v untouched (start_positions_only; the block form
   /// without damping: g_p needs no scaling, and the first nd rows are those of tile_correction).
-  KOKKOS_INLINE_FUNCTION void tile_solve_update_positions(int t, int k0, int nb,
+  template <class Jinv>
+  KOKKOS_INLINE_FUNCTION void tile_solve_update_positions(int t, const int* el, int nb,
                                                           const double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int nd = ex.nd;
     double y[kMaxBie][kTile];
     for (int i0 = 0; i0 < nd; i0 += kRowBlock)
-      tile_jinv_rows(t, i0, nd - i0 < kRowBlock ? nd - i0 : kRowBlock, g, y + i0);
+      tile_jinv_rows<Jinv>(t, i0, nd - i0 < kRowBlock ? nd - i0 : kRowBlock, g, y + i0);
     for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
+      const int e = el[b];
       for (int j = 0; j < nd; ++j) ex.u(e, j) += y[j][b];
     }
   }
 
-  /// Start (BieStartTag) and the first J^-1 apply and update, per tile; driven elements impose t_{n+1}.
-  KOKKOS_INLINE_FUNCTION void operator()(BieStartTileTag, int w) const {
-    if (w >= ex.n_tiles) {
-      ex(InitialTag{}, ex.driven(w - ex.n_tiles));
-      return;
-    }
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+  /// p_n, v_n stored; G at x^0 = x_n: (h v_n + h^2/2 a_n, h a_n) (padded lanes zero).
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void start_lanes(const int* el, int nb, double (*KOKKOS_RESTRICT g)[W]) const {
+    const int nd = ex.nd;
     const double h = ex.h;
-    double g[kMaxBie][kTile];
-    for (int b = 0; b < kTile; ++b) {
+    for (int b = 0; b < W; ++b) {
       if (b >= nb) {
         for (int j = 0; j < 2 * nd; ++j) g[j][b] = 0;
         continue;
       }
-      const int e = ex.tile_elem(k0 + b);
+      const int e = el[b];
       for (int j = 0; j < nd; ++j) {
         const double p = ex.u(e, j), v = ex.v(e, j), a = ex.a(e, j);
         pn(e, j) = p, vn(e, j) = v;
@@ -605,50 +545,134 @@ struct BieIntegrator {
         g[nd + j][b] = h * a;
       }
     }
-    if (start_positions_only)
-      tile_solve_update_positions(t, k0, nb, g);
+  }
+
+  /// p_n, v_n, a_n of the lanes (padded lanes zero).
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void load_step_start(const int* el, int nb, double (*KOKKOS_RESTRICT p0)[W],
+                                              double (*KOKKOS_RESTRICT v0)[W], double (*KOKKOS_RESTRICT a0)[W]) const {
+    for (int b = 0; b < W; ++b) {
+      const bool live = b < nb;
+      const int e = el[live ? b : 0];
+      for (int j = 0; j < ex.nd; ++j)
+        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
+    }
+  }
+
+  /// End of step of the lanes (BieFinalTag): a_{n+1} = a(x_{n+1}) and, when Book, the books.
+  template <int W, bool Book>
+  KOKKOS_INLINE_FUNCTION void final_lanes(int t, const int* el, int nb) const {
+    const int nd = ex.nd;
+    double u[kMaxDof][W], v[kMaxDof][W], ax[kMaxDof][W];
+    tile_accel<W>(t, el, nb, u, v, ax);
+    if constexpr (!Book) {
+      for (int b = 0; b < nb; ++b)
+        for (int j = 0; j < nd; ++j) ex.a(el[b], j) = ax[j][b];
+      return;
+    }
+    double p0[kMaxDof][W], v0[kMaxDof][W], a0[kMaxDof][W];
+    load_step_start<W>(el, nb, p0, v0, a0);
+    double work[W], pd[W], g2[W], d2[W];
+    tile_books<W>(t, el, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < nb; ++b) {
+      const int e = el[b];
+      for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
+      store_books(e, work[b], pd[b], g2[b], d2[b]);
+    }
+  }
+
+  /// The split step's start for the lanes: p = p_n, v = v+ = v_n + h/2 phi_n (a holds phi) and
+  /// the linear midpoint's residual g at (p_n, v+) (padded lanes zero).
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void split_start_lanes(int t, const int* el, int nb, double (*KOKKOS_RESTRICT p)[W],
+                                                double (*KOKKOS_RESTRICT v)[W], double (*KOKKOS_RESTRICT g)[W]) const {
+    const int nd = ex.nd;
+    const double h = ex.h;
+    double wv[kMaxDof][W], kw[kMaxDof][W];
+    for (int b = 0; b < W; ++b) {
+      const bool live = b < nb;
+      const int e = el[live ? b : 0];
+      for (int j = 0; j < nd; ++j) {
+        p[j][b] = live ? ex.u(e, j) : 0.0;
+        v[j][b] = live ? ex.v(e, j) + 0.5 * h * ex.a(e, j) : 0.0;
+        wv[j][b] = p[j][b] + ex.beta * v[j][b];
+      }
+    }
+    tile_K<W>(t, wv, kw);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < W; ++b) {
+        const double al = -mi * kw[i][b] - ex.alpha * v[i][b];
+        g[i][b] = h * v[i][b] + 0.5 * h * h * al;
+        g[nd + i][b] = h * al;
+      }
+    }
+  }
+
+  /// The split step's end kick for the lanes: phi_{n+1} = M^-1 F (what a holds between split
+  /// steps), v_{n+1} = v- + h/2 phi_{n+1}.
+  template <int W>
+  KOKKOS_INLINE_FUNCTION void split_kick_lanes(int t, const int* el, int nb) const {
+    const int nd = ex.nd;
+    const double h = ex.h;
+    double f[kMaxDof][W], v[kMaxDof][W], ax[kMaxDof][W];
+    tile_load<W>(t, el, nb, f, nullptr, v);
+    for (int i = 0; i < nd; ++i) {
+      const double mi = minv(t, i);
+      for (int b = 0; b < W; ++b) {
+        ax[i][b] = mi * f[i][b];
+        v[i][b] += 0.5 * h * ax[i][b];
+      }
+    }
+    for (int b = 0; b < nb; ++b) {
+      const int e = el[b];
+      for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
+    }
+  }
+
+  /// The elements (el[0, nb)) and the type of the tile of work item w < n_tiles.
+  struct Tile {
+    const int* el;
+    int nb, t;
+  };
+  KOKKOS_INLINE_FUNCTION Tile tile(int w) const {
+    const int k0 = ex.tile_start(w);
+    return Tile{ex.tile_elem.data() + k0, ex.tile_start(w + 1) - k0, ex.type(ex.tile_elem(k0))};
+  }
+
+  /// Start (BieStartTag) and the first J^-1 apply and update, per tile; driven elements impose t_{n+1}.
+  template <class Jinv, bool PositionsOnly>
+  KOKKOS_INLINE_FUNCTION void operator()(BieStartTileTag<Jinv, PositionsOnly>, int w) const {
+    if (w >= ex.n_tiles) {
+      ex(InitialTag{}, ex.driven(w - ex.n_tiles));
+      return;
+    }
+    const Tile T = tile(w);
+    double g[kMaxBie][kTile];
+    start_lanes<kTile>(T.el, T.nb, g);
+    if constexpr (PositionsOnly)
+      tile_solve_update_positions<Jinv>(T.t, T.el, T.nb, g);
     else
-      tile_solve_update(t, k0, nb, g);
+      tile_solve_update<Jinv>(T.t, T.el, T.nb, g);
   }
 
   /// Residual (BieResidualTag), J^-1 apply and update, per tile; driven elements untouched.
-  KOKKOS_INLINE_FUNCTION void operator()(BieIterTileTag, int w) const {
+  template <class Jinv>
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterTileTag<Jinv>, int w) const {
     if (w >= ex.n_tiles) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0));
+    const Tile T = tile(w);
     double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile], v0[kMaxDof][kTile],
         a0[kMaxDof][kTile], g[kMaxBie][kTile];
-    tile_accel(t, k0, nb, u, v, ax);
-    tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
-    tile_solve_update(t, k0, nb, g);
+    tile_accel<kTile>(T.t, T.el, T.nb, u, v, ax);
+    tile_residual<kTile>(T.t, T.el, T.nb, u, v, ax, p0, v0, a0, g);
+    tile_solve_update<Jinv>(T.t, T.el, T.nb, g);
   }
 
   /// End of step (BieFinalTag) per tile; driven elements as the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieFinalTileTag, int w) const {
     if (driven_final(w)) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    double u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
-    tile_accel(t, k0, nb, u, v, ax);
-    if (!book) {
-      for (int b = 0; b < nb; ++b) {
-        const int e = ex.tile_elem(k0 + b);
-        for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
-      }
-      return;
-    }
-    double p0[kMaxDof][kTile], v0[kMaxDof][kTile], a0[kMaxDof][kTile];
-    for (int b = 0; b < kTile; ++b) {
-      const bool live = b < nb;
-      const int e = ex.tile_elem(k0 + (live ? b : 0));
-      for (int j = 0; j < nd; ++j)
-        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
-    }
-    double work[kTile], pd[kTile], g2[kTile], d2[kTile];
-    tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
-    for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
-      for (int j = 0; j < nd; ++j) ex.a(e, j) = ax[j][b];
-      store_books(e, work[b], pd[b], g2[b], d2[b]);
-    }
+    const Tile T = tile(w);
+    final_lanes<kTile, true>(T.t, T.el, T.nb);
   }
 
   /// The last iteration and the end of the step in one pass, where the end keeps the interface
@@ -656,28 +680,29 @@ struct BieIntegrator {
   /// gathers, so BieIterTileTag followed by BieFinalTileTag is this one kernel with one gather,
   /// one load of u, v, p_n, v_n, a_n and one store of u, v, a per element instead of two of each.
   /// The same operations on the same values in the same order: the same bits.
-  KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalTileTag, int w) const {
+  template <class Jinv>
+  KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalTileTag<Jinv>, int w) const {
     if (driven_final(w)) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const Tile T = tile(w);
+    const int nd = ex.nd;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
         v0[kMaxDof][kTile], a0[kMaxDof][kTile], g[kMaxBie][kTile];
-    tile_load(t, k0, nb, f, u, v);
-    tile_acc(t, f, u, v, ax);
-    tile_residual(t, k0, nb, u, v, ax, p0, v0, a0, g);
+    tile_load<kTile>(T.t, T.el, T.nb, f, u, v);
+    tile_acc<kTile>(T.t, f, u, v, ax);
+    tile_residual<kTile>(T.t, T.el, T.nb, u, v, ax, p0, v0, a0, g);
     {  // x += J^-1 G in registers (tile_solve_update's sums; its stores u += y are these adds)
       double y[kMaxBie][kTile];
-      tile_correction(t, g, y);
+      tile_correction<Jinv>(T.t, g, y);
       for (int j = 0; j < nd; ++j)
         for (int b = 0; b < kTile; ++b) u[j][b] += y[j][b], v[j][b] += y[nd + j][b];
     }
     // a_{n+1} = a(x_{n+1}) with the same interface force f, then the books
-    tile_acc(t, f, u, v, ax);
+    tile_acc<kTile>(T.t, f, u, v, ax);
     double work[kTile], pd[kTile], g2[kTile], d2[kTile];
-    if (book) tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
-    for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
+    tile_books<kTile>(T.t, T.el, T.nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < T.nb; ++b) {
+      const int e = T.el[b];
       for (int j = 0; j < nd; ++j) ex.u(e, j) = u[j][b], ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
-      if (!book) continue;
       store_books(e, work[b], pd[b], g2[b], d2[b]);
     }
   }
@@ -692,91 +717,57 @@ struct BieIntegrator {
   /// and the J^-1 apply, and no store of u.
   KOKKOS_INLINE_FUNCTION void operator()(BieIterFinalLinearTileTag, int w) const {
     if (driven_final(w)) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
+    const Tile T = tile(w);
+    const int nd = ex.nd;
     const double h = ex.h;
     double f[kMaxDof][kTile], u[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile], p0[kMaxDof][kTile],
         v0[kMaxDof][kTile], a0[kMaxDof][kTile];
-    tile_load(t, k0, nb, f, u, v);
-    tile_acc(t, f, u, v, ax);
-    for (int b = 0; b < kTile; ++b) {
-      const bool live = b < nb;
-      const int e = ex.tile_elem(k0 + (live ? b : 0));
-      for (int j = 0; j < nd; ++j) {
-        p0[j][b] = live ? pn(e, j) : 0.0, v0[j][b] = live ? vn(e, j) : 0.0, a0[j][b] = live ? ex.a(e, j) : 0.0;
-        v[j][b] = v0[j][b] + 0.5 * h * (a0[j][b] + ax[j][b]);
-      }
-    }
+    tile_load<kTile>(T.t, T.el, T.nb, f, u, v);
+    tile_acc<kTile>(T.t, f, u, v, ax);
+    load_step_start<kTile>(T.el, T.nb, p0, v0, a0);
+    for (int j = 0; j < nd; ++j)
+      for (int b = 0; b < kTile; ++b) v[j][b] = v0[j][b] + 0.5 * h * (a0[j][b] + ax[j][b]);
     double work[kTile], pd[kTile], g2[kTile], d2[kTile];
-    if (book) tile_books(t, k0, nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
-    for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
+    tile_books<kTile>(T.t, T.el, T.nb, u, v, ax, p0, v0, a0, work, pd, g2, d2);
+    for (int b = 0; b < T.nb; ++b) {
+      const int e = T.el[b];
       for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
-      if (!book) continue;
       store_books(e, work[b], pd[b], g2[b], d2[b]);
     }
   }
 
   /// The split step's start (BieSplitStartTag) and its one J^-1 apply and update, per tile.
-  KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTileTag, int w) const {
+  template <class Jinv>
+  KOKKOS_INLINE_FUNCTION void operator()(BieSplitStartTileTag<Jinv>, int w) const {
     if (w >= ex.n_tiles) {
       ex(InitialTag{}, ex.driven(w - ex.n_tiles));
       return;
     }
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    const double h = ex.h;
-    double p[kMaxDof][kTile], v[kMaxDof][kTile], wv[kMaxDof][kTile], kw[kMaxDof][kTile], g[kMaxBie][kTile];
-    for (int b = 0; b < kTile; ++b) {
-      const bool live = b < nb;
-      const int e = ex.tile_elem(k0 + (live ? b : 0));
-      for (int j = 0; j < nd; ++j) {
-        p[j][b] = live ? ex.u(e, j) : 0.0;
-        v[j][b] = live ? ex.v(e, j) + 0.5 * h * ex.a(e, j) : 0.0;  // v+ = v_n + h/2 phi_n (a holds phi)
-        wv[j][b] = p[j][b] + ex.beta * v[j][b];
-      }
-    }
-    tile_K(t, wv, kw);
-    for (int i = 0; i < nd; ++i) {
-      const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) {
-        const double al = -mi * kw[i][b] - ex.alpha * v[i][b];
-        g[i][b] = h * v[i][b] + 0.5 * h * h * al;
-        g[nd + i][b] = h * al;
-      }
-    }
-    double y[kMaxBie][kTile];
-    tile_correction(t, g, y);
-    // p_{n+1}, v- into wv, kw (free now); the step's books are complete here: they need p_n, v+,
-    // p_{n+1} and v-, not the end's kick (BieSplitFinalTag books them from the stored p_n, v+ and
-    // the same rounded p_{n+1}, v-: the same bits), so p_n, v+ are never stored nor reloaded
+    const Tile T = tile(w);
+    const int nd = ex.nd;
+    double p[kMaxDof][kTile], v[kMaxDof][kTile], g[kMaxBie][kTile], y[kMaxBie][kTile];
+    split_start_lanes<kTile>(T.t, T.el, T.nb, p, v, g);
+    tile_correction<Jinv>(T.t, g, y);
+    // p_{n+1} and v-; the step's books are complete here: they need p_n, v+, p_{n+1} and v-, not
+    // the end's kick (BieSplitFinalTag books them from the stored p_n, v+ and the same rounded
+    // p_{n+1}, v-: the same bits), so p_n, v+ are never stored nor reloaded
+    double p1[kMaxDof][kTile], v1[kMaxDof][kTile];
     for (int j = 0; j < nd; ++j)
-      for (int b = 0; b < kTile; ++b) wv[j][b] = p[j][b] + y[j][b], kw[j][b] = v[j][b] + y[nd + j][b];
+      for (int b = 0; b < kTile; ++b) p1[j][b] = p[j][b] + y[j][b], v1[j][b] = v[j][b] + y[nd + j][b];
     double work[kTile], pd[kTile], g2[kTile], d2[kTile];
-    if (book) tile_books(t, k0, nb, wv, kw, nullptr, p, v, nullptr, work, pd, g2, d2);  // no residual
-    for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
-      for (int j = 0; j < nd; ++j) ex.u(e, j) = wv[j][b], ex.v(e, j) = kw[j][b];
-      if (book) store_books(e, work[b], pd[b], 0.0, d2[b]);  // g2 = 0: no iteration
+    tile_books<kTile>(T.t, T.el, T.nb, p1, v1, nullptr, p, v, nullptr, work, pd, g2, d2);  // no residual
+    for (int b = 0; b < T.nb; ++b) {
+      const int e = T.el[b];
+      for (int j = 0; j < nd; ++j) ex.u(e, j) = p1[j][b], ex.v(e, j) = v1[j][b];
+      store_books(e, work[b], pd[b], 0.0, d2[b]);  // g2 = 0: no iteration
     }
   }
 
   /// The split step's end (BieSplitFinalTag) per tile; driven elements as the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTileTag, int w) const {
     if (driven_final(w)) return;
-    const int k0 = ex.tile_start(w), nb = ex.tile_start(w + 1) - k0, t = ex.type(ex.tile_elem(k0)), nd = ex.nd;
-    const double h = ex.h;
-    double f[kMaxDof][kTile], v[kMaxDof][kTile], ax[kMaxDof][kTile];
-    tile_load(t, k0, nb, f, nullptr, v);  // the books were kept by the start (BieSplitStartTileTag)
-    for (int i = 0; i < nd; ++i) {
-      const double mi = minv(t, i);
-      for (int b = 0; b < kTile; ++b) {
-        ax[i][b] = mi * f[i][b];  // phi_{n+1}, what a holds between split steps
-        v[i][b] += 0.5 * h * ax[i][b];
-      }
-    }
-    for (int b = 0; b < nb; ++b) {
-      const int e = ex.tile_elem(k0 + b);
-      for (int j = 0; j < nd; ++j) ex.v(e, j) = v[j][b], ex.a(e, j) = ax[j][b];
-    }
+    const Tile T = tile(w);
+    split_kick_lanes<kTile>(T.t, T.el, T.nb);  // the books were kept by the start (BieSplitStartTileTag)
   }
 };
 
@@ -927,8 +918,8 @@ struct BieSplitScheme {};
 
 /// \brief One split BIE step (docs/methods.md "The split step"): start (half kick, residual) + one
 /// J^-1 apply, the interface force at p_{n+1}, end.
-template <class ExecutionSpace, bool Fused>
-void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fused>,
+template <class ExecutionSpace, bool Fused, class Jinv>
+void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fused>, Jinv,
               const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
               const BieSolveOp<MemOf<ExecutionSpace>>& solve, const BieStepPlan& plan) {
   using Exec = ExecutionSpace;
@@ -938,7 +929,7 @@ void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fu
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
     if constexpr (Fused)
       Kokkos::parallel_for("nacre::dyn::bie_split_start_tiled",
-                           Kokkos::RangePolicy<Exec, BieSplitStartTileTag>(space, 0, nw), it);
+                           Kokkos::RangePolicy<Exec, BieSplitStartTileTag<Jinv>>(space, 0, nw), it);
     else {
       Kokkos::parallel_for("nacre::dyn::bie_split_start",
                            Kokkos::RangePolicy<Exec, BieSplitStartTag>(space, 0, plan.n_elem), it);
@@ -960,36 +951,39 @@ void bie_step(const ExecutionSpace& space, BieSplitScheme, std::bool_constant<Fu
 /// \brief One iterated BIE step (eq. 4.6), fused over the element tiles: start, then per
 /// iteration the interface force and the tiled iterate; the last iteration and the end in one
 /// pass where the force is kept.
-template <class ExecutionSpace>
-void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fused*/,
+template <class ExecutionSpace, class Jinv>
+void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fused*/, Jinv,
               const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
               const BieSolveOp<MemOf<ExecutionSpace>>& /*solve: inside the tiles*/, const BieStepPlan& plan) {
   using Exec = ExecutionSpace;
   const int nw = it.ex.n_tiles + it.ex.n_driven;
-  // the reduced last pass follows: the start needs only u_1 (BieIntegrator::start_positions_only)
-  const bool reduced_end = plan.iterations == 2 && plan.reuse_force && it.block_lower && it.jq == 0.0 && !it.vfirst;
+  // C = 0 (the block form with jq = 0): with two iterations and the force kept, the last pass is
+  // the reduced one and the start needs only u_1 (BieStartTileTag's PositionsOnly)
+  const bool reduced_end = std::is_same_v<Jinv, JinvBlockLower> && it.jq == 0.0;
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
-    BieIntegrator<MemOf<ExecutionSpace>> start = it;
-    start.start_positions_only = reduced_end;
-    Kokkos::parallel_for("nacre::dyn::bie_start_tiled", Kokkos::RangePolicy<Exec, BieStartTileTag>(space, 0, nw),
-                         start);
+    if (reduced_end && plan.iterations == 2 && plan.reuse_force)
+      Kokkos::parallel_for("nacre::dyn::bie_start_tiled",
+                           Kokkos::RangePolicy<Exec, BieStartTileTag<Jinv, true>>(space, 0, nw), it);
+    else
+      Kokkos::parallel_for("nacre::dyn::bie_start_tiled",
+                           Kokkos::RangePolicy<Exec, BieStartTileTag<Jinv, false>>(space, 0, nw), it);
   }
   for (int k = 0; k < plan.iterations; ++k) {
     if (k > 0 && plan.reuse_force && k == plan.iterations - 1) {  // the last iteration and the end in one pass
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate_final");
-      if (it.block_lower && it.jq == 0.0)  // C = 0 only: with alpha_d M, G_p(x_1) = 0 still, but y_p != 0
+      if (reduced_end)  // C = 0 only: with alpha_d M, G_p(x_1) = 0 still, but y_p != 0
         Kokkos::parallel_for("nacre::dyn::bie_iterate_final_linear",
                              Kokkos::RangePolicy<Exec, BieIterFinalLinearTileTag>(space, 0, nw), it);
       else
         Kokkos::parallel_for("nacre::dyn::bie_iterate_final_tiled",
-                             Kokkos::RangePolicy<Exec, BieIterFinalTileTag>(space, 0, nw), it);
+                             Kokkos::RangePolicy<Exec, BieIterFinalTileTag<Jinv>>(space, 0, nw), it);
       return;
     }
     if (k > 0) {
       Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_iterate");
-      Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled", Kokkos::RangePolicy<Exec, BieIterTileTag>(space, 0, nw),
-                           it);
+      Kokkos::parallel_for("nacre::dyn::bie_iterate_tiled",
+                           Kokkos::RangePolicy<Exec, BieIterTileTag<Jinv>>(space, 0, nw), it);
     }
     force(space, op, plan.n_iface);
   }
@@ -1000,8 +994,8 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fu
 /// \brief One iterated BIE step (eq. 4.6), unfused: start, then per iteration (solve, update,
 /// interface force, residual), the last interface force at x_{n+1}, and the final accelerations
 /// and books.
-template <class ExecutionSpace>
-void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*fused*/,
+template <class ExecutionSpace, class Jinv>
+void bie_step(const ExecutionSpace& space, BieIterateScheme, std::false_type /*fused*/, Jinv /*the solve applies J^-1*/,
               const BieIntegrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op,
               const BieSolveOp<MemOf<ExecutionSpace>>& solve, const BieStepPlan& plan) {
   using Exec = ExecutionSpace;
@@ -1035,13 +1029,12 @@ template <class ExecutionSpace>
 void bie_accelerations(const ExecutionSpace& space, BieIntegrator<MemOf<ExecutionSpace>> it,
                        const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface, bool split = false) {
   force(space, op, n_iface);
-  it.book = false;
   if (split)
     Kokkos::parallel_for("nacre::dyn::bie_split_init", Kokkos::RangePolicy<ExecutionSpace, BieSplitInitTag>(space, 0, n_elem),
                          it);
   else
     Kokkos::parallel_for("nacre::dyn::bie_accelerations",
-                         Kokkos::RangePolicy<ExecutionSpace, BieFinalTag>(space, 0, n_elem), it);
+                         Kokkos::RangePolicy<ExecutionSpace, BieAccelTag>(space, 0, n_elem), it);
 }
 
 /// \brief Relative residual of the last step (see Simulation::bie_residual), from the free
