@@ -230,9 +230,8 @@ namespace {
 class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
-      : d_(d), D_(d.dynamics), opt_(opt), log_(opt.quiet ? nullptr : &std::cout), t0_(clock::now()),
-        setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
-        crack_(setup_.specimen, setup_.interfaces, d.geometry),
+      : d_(d), D_(d.dynamics), opt_(opt), log_(opt.quiet ? nullptr : &std::cout), t0_(clock::now()), setup_(build(d)),
+        p_(dynamics_params(d, setup_.specimen.size())), crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
         progress_(opt.tty && d.output.progress && !opt.quiet) {}
 
@@ -264,8 +263,7 @@ private:
   }
   [[nodiscard]] long total_now() const {
     if (!adaptive()) return fixed_total_;
-    return sim_->steps() +
-           std::max(0L, static_cast<long>(std::ceil((D_.end_time - sim_->time()) / sim_->dt() - 1e-9)));
+    return sim_->steps() + std::max(0L, static_cast<long>(std::ceil((D_.end_time - sim_->time()) / sim_->dt() - 1e-9)));
   }
 
   void log_start() const {
@@ -294,7 +292,8 @@ private:
     if (sim_->steps() != cp_.step)
       throw std::runtime_error(restart + ": restored state is at step " + std::to_string(sim_->steps()) +
                                ", the checkpoint says " + std::to_string(cp_.step));
-    if (log_) *log_ << "nacre: restarting from " << restart << " at step " << cp_.step << ", t = " << cp_.time << " s\n";
+    if (log_)
+      *log_ << "nacre: restarting from " << restart << " at step " << cp_.step << ", t = " << cp_.time << " s\n";
   }
 
   void take_step_from_fraction() {
@@ -534,9 +533,9 @@ private:
               << ", ruptured " << r.ruptured << "\n";
       } else {
         const auto [spent, left] = spent_left(step);
-        *log_ << "  step " << step << "/" << total_now() << " in progress: t = " << r.time << " s, D = "
-              << r.displacement << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed " << hms(spent)
-              << ", left ~" << hms(left) << "\n";
+        *log_ << "  step " << step << "/" << total_now() << " in progress: t = " << r.time
+              << " s, D = " << r.displacement << ", F = " << r.reaction << ", ruptured " << r.ruptured << ", elapsed "
+              << hms(spent) << ", left ~" << hms(left) << "\n";
       }
     }
     if (progress_ && (elapsed() - last_progress_ > 0.25 || finished())) {
@@ -563,8 +562,8 @@ private:
     status_ = "interrupted";
     summary();
     std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << sim_->time()
-              << " s); checkpoint written to " << writer_->checkpoint_path().string() << "\nnacre: continue with: nacre "
-              << d_.path << " -o " << writer_->directory().string() << " --restart "
+              << " s); checkpoint written to " << writer_->checkpoint_path().string()
+              << "\nnacre: continue with: nacre " << d_.path << " -o " << writer_->directory().string() << " --restart "
               << writer_->checkpoint_path().string() << "\n";
     return 128 + sig;
   }
@@ -593,7 +592,8 @@ private:
             << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
     }
     if (const int sig = pending_signal()) {  // in the last chunk: the results are complete
-      std::cerr << "nacre: " << signal_name(sig) << " received during the last chunk: results complete, charts skipped\n";
+      std::cerr << "nacre: " << signal_name(sig)
+                << " received during the last chunk: results complete, charts skipped\n";
       return 128 + sig;
     }
     if (d_.output.charts && !run_charts("nacre_dyn_plot.py", writer_->directory(), log_)) return 1;

@@ -112,8 +112,10 @@ struct Simulation::Impl {
   void choose_bie_step() {
     if (!is_bie()) return;
     bie_plan = BieStepPlan{p.bie_solve, p.bie_block, p.bie_iterations, p.bie_reuse_force, m.n_elem, m.n_iface, n_tiles};
-    if (p.bie_scheme == BieScheme::split) bie_step_fn = pick_bie_step<BieSplitScheme>();
-    else bie_step_fn = pick_bie_step<BieIterateScheme>();
+    if (p.bie_scheme == BieScheme::split)
+      bie_step_fn = pick_bie_step<BieSplitScheme>();
+    else
+      bie_step_fn = pick_bie_step<BieIterateScheme>();
   }
   template <class Scheme>
   BieStepFn pick_bie_step() const {
@@ -356,8 +358,8 @@ struct Simulation::Impl {
   }
 };
 
-Simulation::Simulation(const Exec& space, const Params& p, const geometry::Specimen& s,
-                       const geometry::Interfaces& f, const deck::Mortar& mortar)
+Simulation::Simulation(const Exec& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                       const deck::Mortar& mortar)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;

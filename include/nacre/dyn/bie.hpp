@@ -125,7 +125,7 @@ template <class Jinv>
 struct BieIterTileTag {};
 struct BieFinalTileTag {};
 template <class Jinv>
-struct BieIterFinalTileTag {};  ///< the last iteration fused with the end of the step (bie_reuse_force)
+struct BieIterFinalTileTag {};        ///< the last iteration fused with the end of the step (bie_reuse_force)
 struct BieIterFinalLinearTileTag {};  ///< ... when C = 0 (BieTables::block_lower): the reduced form
 // the split step (BieScheme::split): start = half kick + the linear midpoint's residual, one J^-1
 // apply, the interface force at p_{n+1}, final = books + half kick + a_{n+1}
@@ -192,7 +192,8 @@ struct BieIntegrator {
     constexpr bool block_lower = std::is_same_v<Jinv, JinvBlockLower>;
     const int nd = ex.nd, n = block_lower ? nd : 2 * nd;
     tile_rows(J, t, i0, nq, n, g, y);
-    if constexpr (block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
+    if constexpr (
+        block_lower)  // the v-v block's diagonal: row r >= nd gets jr g[r] (1 g[r] without damping, or no mass)
       for (int q = 0; q < nq; ++q)
         if (i0 + q >= nd) {
           const double r = ex.mass(t, i0 + q - nd) > 0 ? jr : 1.0;
@@ -244,8 +245,7 @@ struct BieIntegrator {
   KOKKOS_INLINE_FUNCTION void operator()(BieResidualTag, int e) const {
     if (ex.drive(e) != 0) return;
     const int t = ex.type(e);
-    double u[kMaxDof][1], v[kMaxDof][1], ax[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1], a0[kMaxDof][1],
-        g[kMaxBie][1];
+    double u[kMaxDof][1], v[kMaxDof][1], ax[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1], a0[kMaxDof][1], g[kMaxBie][1];
     tile_accel<1>(t, &e, 1, u, v, ax);
     tile_residual<1>(t, &e, 1, u, v, ax, p0, v0, a0, g);
     store_residual(e, g);
@@ -323,7 +323,8 @@ struct BieIntegrator {
     const int t = ex.type(e);
     {  // the books from the stored p_n, v+ and this p_{n+1}, v-
       double u[kMaxDof][1], v[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1];
-      for (int j = 0; j < ex.nd; ++j) u[j][0] = ex.u(e, j), v[j][0] = ex.v(e, j), p0[j][0] = pn(e, j), v0[j][0] = vn(e, j);
+      for (int j = 0; j < ex.nd; ++j)
+        u[j][0] = ex.u(e, j), v[j][0] = ex.v(e, j), p0[j][0] = pn(e, j), v0[j][0] = vn(e, j);
       double work[1], pd[1], g2[1], d2[1];
       tile_books<1>(t, &e, 1, u, v, nullptr, p0, v0, nullptr, work, pd, g2, d2);
       store_books(e, work[0], pd[0], g2[0], d2[0]);  // g2 = 0: no iteration, nothing left unconverged
@@ -422,10 +423,9 @@ struct BieIntegrator {
   /// ax, and p_n, v_n, a_n (loaded here into pn0, vn0, an0 for the caller; padded lanes zero).
   template <int W>
   KOKKOS_INLINE_FUNCTION void tile_residual(int t, const int* el, int nb, const double (*KOKKOS_RESTRICT u)[W],
-                                            const double (*KOKKOS_RESTRICT v)[W],
-                                            const double (*KOKKOS_RESTRICT ax)[W], double (*KOKKOS_RESTRICT pn0)[W],
-                                            double (*KOKKOS_RESTRICT vn0)[W], double (*KOKKOS_RESTRICT an0)[W],
-                                            double (*KOKKOS_RESTRICT g)[W]) const {
+                                            const double (*KOKKOS_RESTRICT v)[W], const double (*KOKKOS_RESTRICT ax)[W],
+                                            double (*KOKKOS_RESTRICT pn0)[W], double (*KOKKOS_RESTRICT vn0)[W],
+                                            double (*KOKKOS_RESTRICT an0)[W], double (*KOKKOS_RESTRICT g)[W]) const {
     const int nd = ex.nd;
     const double h = ex.h;
     double dp[kMaxDof][W], dv[kMaxDof][W], wv[kMaxDof][W], kw[kMaxDof][W];
@@ -452,10 +452,10 @@ struct BieIntegrator {
   /// The books of the end of the step (as BieFinalTag) for the tile: work, damping, residual norms.
   template <int W>
   KOKKOS_INLINE_FUNCTION void tile_books(int t, const int* el, int nb, const double (*KOKKOS_RESTRICT u)[W],
-                                         const double (*KOKKOS_RESTRICT v)[W],
-                                         const double (*KOKKOS_RESTRICT ax)[W], const double (*KOKKOS_RESTRICT pn0)[W],
-                                         const double (*KOKKOS_RESTRICT v0)[W], const double (*KOKKOS_RESTRICT a0)[W],
-                                         double* work, double* pd, double* g2, double* d2) const {
+                                         const double (*KOKKOS_RESTRICT v)[W], const double (*KOKKOS_RESTRICT ax)[W],
+                                         const double (*KOKKOS_RESTRICT pn0)[W], const double (*KOKKOS_RESTRICT v0)[W],
+                                         const double (*KOKKOS_RESTRICT a0)[W], double* work, double* pd, double* g2,
+                                         double* d2) const {
     const int nd = ex.nd;
     const double h = ex.h;
     double dp[kMaxDof][W], vm[kMaxDof][W], kv[kMaxDof][W];
@@ -502,7 +502,8 @@ struct BieIntegrator {
 
   /// x += J^-1 G for the tile's elements.
   template <class Jinv>
-  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, const int* el, int nb, double (*KOKKOS_RESTRICT g)[kTile]) const {
+  KOKKOS_INLINE_FUNCTION void tile_solve_update(int t, const int* el, int nb,
+                                                double (*KOKKOS_RESTRICT g)[kTile]) const {
     const int nd = ex.nd;
     double y[kMaxBie][kTile];
     tile_correction<Jinv>(t, g, y);

@@ -336,8 +336,7 @@ struct Integrator {
   /// SIMD lanes and no add-latency chain).
   template <int W>
   KOKKOS_INLINE_FUNCTION void final_free(int t, const int* elem, int nb) const {
-    double x[kMaxDof][W], wv[kMaxDof][W], f[kMaxDof][W], r[kMaxDof][W], vo[kMaxDof][W],
-        ao[kMaxDof][W];
+    double x[kMaxDof][W], wv[kMaxDof][W], f[kMaxDof][W], r[kMaxDof][W], vo[kMaxDof][W], ao[kMaxDof][W];
     double work[W], pd[W];
     for (int b = 0; b < W; ++b) {
       work[b] = 0, pd[b] = 0;
@@ -479,8 +478,8 @@ using ElementTiles = std::bool_constant<Tiled>;
 template <class ExecutionSpace>
 void initial_integrate(const ExecutionSpace& space, const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::initial_integrate");
-  Kokkos::parallel_for("nacre::dyn::initial_integrate", Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem),
-                       it);
+  Kokkos::parallel_for("nacre::dyn::initial_integrate",
+                       Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem), it);
 }
 
 /// \brief The interface force at u_{n+1} (one row of op.out per interface).

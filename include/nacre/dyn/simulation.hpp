@@ -130,8 +130,7 @@ public:
   Simulation(const Kokkos::DefaultExecutionSpace& space, const Params& p, const geometry::Specimen& s,
              const geometry::Interfaces& f, const deck::Mortar& mortar);
   /// \brief As above on a default-constructed instance (tests, benchmarks).
-  Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-             const deck::Mortar& mortar)
+  Simulation(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f, const deck::Mortar& mortar)
       : Simulation(Kokkos::DefaultExecutionSpace{}, p, s, f, mortar) {}
   ~Simulation();
   Simulation(Simulation&&) noexcept;
