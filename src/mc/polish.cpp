@@ -25,11 +25,27 @@ double Polisher::residual(const ExecSpace& space, const Model<>& m, const Residu
   return residual_of(space, grad_, m.n_free, scale);
 }
 
+PolishMethod parse_polish_method(const std::string& name) {
+  for (const auto m : {PolishMethod::fire, PolishMethod::newton, PolishMethod::anneal, PolishMethod::none})
+    if (name == polish_method_name(m)) return m;
+  throw std::invalid_argument("unknown polish method '" + name + "' (expected fire, newton, anneal or none)");
+}
+
+const char* polish_method_name(PolishMethod m) {
+  switch (m) {
+    case PolishMethod::fire: return "fire";
+    case PolishMethod::newton: return "newton";
+    case PolishMethod::anneal: return "anneal";
+    case PolishMethod::none: return "none";
+  }
+  return "?";
+}
+
 PolishResult Polisher::run(const ExecSpace& space, const Model<>& m, const ResidualScale& scale,
                            const PolishOptions& o) {
-  if (o.method == "fire") return fire(space, m, scale, o);
-  if (o.method == "newton") return newton(space, m, scale, o);
-  if (o.method != "none") throw std::logic_error("unknown polish method '" + o.method + "'");
+  if (o.method == PolishMethod::fire) return fire(space, m, scale, o);
+  if (o.method == PolishMethod::newton) return newton(space, m, scale, o);
+  if (o.method == PolishMethod::anneal) throw std::logic_error("Polisher::run: anneal is mc::Solver::anneal");
   PolishResult r;
   r.residual = residual(space, m, scale);
   r.converged = r.residual < o.tolerance;

@@ -27,9 +27,14 @@ Colouring make_colouring(const std::string& name, const geometry::Specimen& s, c
 }
 }  // namespace
 
+Solver::Settings::Settings(const deck::Deck& d)
+    : load(d.load), mc(d.solver), mortar(d.mortar), brick_width(d.geometry.brick_width),
+      brick_height(d.geometry.brick_height), seed(d.seed), by_residual(d.solver.convergence == "residual"),
+      gradient_only(d.solver.relaxation == "gradient"), polish(parse_polish_method(d.solver.polish)) {}
+
 Solver::Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log)
     : space_(space),
-      deck_(d),
+      cfg_(d),
       pattern_{d.load.tension, d.load.bending, d.geometry.width},
       monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol,
                d.solver.stol_relative),
@@ -69,21 +74,21 @@ Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Spec
 
 void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
                    const Colouring& c) {
-  source_ = rng::make_uniform_source(deck_.solver.rng, deck_.seed);
-  m_ = build_model(space_, s, f, adj, c, deck_.mortar, deck_.solver.quadrature_points);
+  source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
+  m_ = build_model(space_, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
   allocate_work();
   polisher_ = Polisher(space_, m_);
   // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
   // a brick's length is the force an intact bed joint carries at its limit; a moment is that
   // force times the brick length.
-  const auto& bed = deck_.mortar.bed;
-  const auto& head = deck_.mortar.head;
-  const double bw = deck_.geometry.brick_width, bh = deck_.geometry.brick_height;
+  const auto& bed = cfg_.mortar.bed;
+  const auto& head = cfg_.mortar.head;
+  const double bw = cfg_.brick_width, bh = cfg_.brick_height;
   scale_.force = std::max(bed.k * bed.x1, head.k * head.x1) * bw;
   scale_.moment = scale_.force * bw;
-  polish_options_.method = deck_.solver.polish;
-  polish_options_.tolerance = deck_.solver.residual_tolerance;
-  polish_options_.max_iterations = deck_.solver.polish_iterations;
+  polish_options_.method = cfg_.polish;
+  polish_options_.tolerance = cfg_.mc.residual_tolerance;
+  polish_options_.max_iterations = cfg_.mc.polish_iterations;
   polish_options_.rotation_length = bw / std::sqrt(12.0);
   polish_options_.stiffness = 2.0 * bed.k * bw + 2.0 * head.k * bh;
   D_ = 0;
@@ -145,12 +150,12 @@ void Solver::allocate_work() {
   // Read before first written (a checkpoint at step 0 stores the previous poses): zeroed.
   prev_pose_ = Model<>::PoseView(view_alloc(space_, "nacre::mc::prev_pose"), n);
   brick_steps_ = {};
-  if (deck_.solver.per_brick_steps) {
+  if (cfg_.mc.per_brick_steps) {
     brick_steps_.step =
         decltype(brick_steps_.step)(view_alloc(space_, WithoutInitializing, "nacre::mc::brick_step"), nf);
     brick_steps_.accepted = decltype(brick_steps_.accepted)(view_alloc(space_, "nacre::mc::brick_accepted"), nf);
     auto h = Kokkos::create_mirror_view(WithoutInitializing, brick_steps_.step);
-    for (int b = 0; b < m_.n_free; ++b) h(b, 0) = deck_.solver.step, h(b, 1) = deck_.solver.rot_step;
+    for (int b = 0; b < m_.n_free; ++b) h(b, 0) = cfg_.mc.step, h(b, 1) = cfg_.mc.rot_step;
     Kokkos::deep_copy(space_, brick_steps_.step, h);
   }
   space_.fence("nacre::mc::allocate_work");
@@ -217,10 +222,10 @@ double Solver::dissipated() {
       space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces, KOKKOS_LAMBDA(const int i) { return en(i); });
 }
 
-bool Solver::finished() const { return run_.leg >= static_cast<int>(deck_.load.targets().size()); }
+bool Solver::finished() const { return run_.leg >= static_cast<int>(cfg_.load.targets().size()); }
 
 double Solver::path_fraction() const {
-  const auto targets = deck_.load.targets();
+  const auto targets = cfg_.load.targets();
   double done = 0, prev = 0;
   for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
     if (k < run_.leg)
@@ -229,7 +234,7 @@ double Solver::path_fraction() const {
       done += std::abs(D_ - prev);
     prev = targets[k];
   }
-  const double total = deck_.load.path_length();
+  const double total = cfg_.load.path_length();
   return total > 0 ? std::min(1.0, done / total) : 1.0;
 }
 
@@ -244,17 +249,17 @@ double Solver::residual() {
 PolishResult Solver::polish(const std::string& method, double tolerance) {
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;
-  if (!method.empty()) o.method = method;
+  if (!method.empty()) o.method = parse_polish_method(method);
   if (tolerance > 0) o.tolerance = tolerance;
   cache_valid_ = false;
-  const PolishResult r = o.method == "anneal" ? anneal(o) : polisher_.run(space_, m_, scale_, o);
+  const PolishResult r = o.method == PolishMethod::anneal ? anneal(o) : polisher_.run(space_, m_, scale_, o);
   times_.polish += timer.seconds();
   return r;
 }
 
 PolishResult Solver::anneal(const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_anneal");
-  const auto& S = deck_.solver;
+  const auto& S = cfg_.mc;
   const long block = S.adapt_interval > 0 ? S.adapt_interval : 50;
   const double T0 = S.temperature;
   // Per-brick step sizes while annealing, whatever the run's step_mode: with one global pair the
@@ -350,7 +355,7 @@ long Solver::cycle() {
   window_trials_ += m_.n_free;
   accepted_total_ += accepted;
   trials_total_ += m_.n_free;
-  const auto& S = deck_.solver;
+  const auto& S = cfg_.mc;
   // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
   // restart with each load step), per brick or for the global pair
   if (S.adapt_interval > 0 && global_cycle_ % S.adapt_interval == 0) {
@@ -370,7 +375,7 @@ long Solver::cycle() {
 
 long Solver::mc_phase(long budget, bool& window_converged) {
   // Monte Carlo until the window test passes (or the budget / the backtracking limit is spent)
-  const auto& S = deck_.solver;
+  const auto& S = cfg_.mc;
   monitor_.reset();
   E_ = energy();
   window_converged = false;
@@ -400,13 +405,13 @@ long Solver::relax(bool& converged) {
   // any); the residual is reported. convergence = "residual": Monte Carlo phase + polish until
   // the residual is below the tolerance; a polish that stalls (e.g. in a metastable state) gets
   // another Monte Carlo phase, until max_cycles (or the backtracking limit) is spent.
-  const auto& S = deck_.solver;
-  const bool by_residual = S.convergence == "residual";
+  const auto& S = cfg_.mc;
+  const bool by_residual = cfg_.by_residual;
   const long limit = cycle_limit_ > 0 ? std::min(cycle_limit_, S.max_cycles) : S.max_cycles;
   converged = false;
   step_polish_ = 0;
   long c = 0;
-  if (S.relaxation == "gradient") {
+  if (cfg_.gradient_only) {
     // A pure gradient minimiser with the same load stepping: no Monte Carlo at all (0 cycles);
     // the step converges when the polish reaches the tolerance within polish_iterations.
     const PolishResult p = polish();
@@ -447,8 +452,8 @@ void Solver::predict(double ratio) {
 
 void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::run");
-  const auto& L = deck_.load;
-  const auto& S = deck_.solver;
+  const auto& L = cfg_.load;
+  const auto& S = cfg_.mc;
   // Target and upper cycle counts of the adaptive displacement (eq. 2.8, 2.9). The dissertation
   // names WindowMul and WindowUpperMul without the formula; nacre reads them as multiples of
   // ConvergenceRep (documented in docs/decks.md).
@@ -547,7 +552,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
       r.seconds = timer.seconds();
       return r;
     };
-    if (!converged && S.convergence == "residual") {
+    if (!converged && cfg_.by_residual) {
       // "not converged after N cycles": the step is not completed; the caller reports it and
       // keeps the last completed step's checkpoint and rows.
       failed_ = true;

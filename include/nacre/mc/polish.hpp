@@ -24,9 +24,16 @@
 
 namespace nacre::mc {
 
+/// \brief The polish methods (deck key `polish`): anneal is mc::Solver::anneal, the others Polisher's.
+enum class PolishMethod { fire, newton, anneal, none };
+/// \brief The method named `name` (the deck's spelling); std::invalid_argument for any other.
+PolishMethod parse_polish_method(const std::string& name);
+/// \brief The deck's spelling of `m`.
+const char* polish_method_name(PolishMethod m);
+
 /// \brief What a polish is asked to do.
 struct PolishOptions {
-  std::string method = "fire";  ///< "fire" | "newton" | "none" ("anneal": mc::Solver::anneal)
+  PolishMethod method = PolishMethod::fire;
   double tolerance = 1e-6;      ///< residual to reach
   int max_iterations = 5000;    ///< FIRE steps or Newton sweeps
   double rotation_length = 1.0; ///< l of the FIRE coordinates (x, y, l theta)

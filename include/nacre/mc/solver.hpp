@@ -180,8 +180,23 @@ private:
   void predict(double ratio);
   long mc_phase(long budget, bool& window_converged);
 
+  /// What the solver reads of the deck, kept from construction (the sections it needs, not the
+  /// deck's text and key table), with the run-time choices parsed once: no string compares in
+  /// the loops.
+  struct Settings {
+    deck::Load load;
+    deck::MonteCarlo mc;
+    deck::Mortar mortar;
+    double brick_width = 0, brick_height = 0;
+    std::uint64_t seed = 1;
+    bool by_residual = true;     ///< convergence = "residual" (else "window")
+    bool gradient_only = false;  ///< relaxation = "gradient"
+    PolishMethod polish = PolishMethod::fire;
+    explicit Settings(const deck::Deck& d);
+  };
+
   ExecSpace space_;
-  deck::Deck deck_;
+  Settings cfg_;
   Model<> m_;
   loading::Pattern pattern_;
   std::unique_ptr<rng::UniformSource> source_;
