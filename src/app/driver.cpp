@@ -1,6 +1,8 @@
 // Shared pieces of the run drivers (driver.hpp).
 #include "driver.hpp"
 
+#include <nacre/app/signals.hpp>
+
 #include <nacre/core/format.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/names.hpp>
@@ -21,6 +23,50 @@ extern char** environ;
 #endif
 
 namespace nacre::app {
+
+RunSession::RunSession(const deck::Deck& d, bool quiet, bool tty)
+    : d_(d), t0_(clock::now()), log_(quiet ? nullptr : &std::cout), progress_(tty && d.output.progress && !quiet),
+      heartbeat_(!tty && !quiet && d.output.heartbeat > 0) {}
+
+double RunSession::elapsed() const { return std::chrono::duration<double>(clock::now() - t0_).count(); }
+
+void RunSession::log_start(const std::string& what) const {
+  if (log_)
+    *log_ << "nacre: " << d_.path << ": " << what << ", " << space_.name() << " with " << space_.concurrency()
+          << " threads\n";
+}
+
+io::RunWriter RunSession::open_writer(const io::RunWriter::Options& o, const geometry::Specimen& s,
+                                      const geometry::Interfaces& f, const std::string& restart,
+                                      long restart_step) const {
+  std::optional<io::RunWriter::Resume> resume;
+  if (!restart.empty()) {
+    resume = io::RunWriter::Resume{restart_step, std::filesystem::path(restart).parent_path()};
+    if (resume->source_directory.empty()) resume->source_directory = ".";
+  }
+  io::RunWriter w(o, s, f, resume);
+  if (log_ && w.stale_temporaries_removed() > 0)
+    *log_ << "nacre: removed " << w.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
+          << w.directory().string() << "/\n";
+  return w;
+}
+
+int RunSession::stopped_by_signal(int sig, const std::string& after, const io::RunWriter& w) const {
+  std::cerr << "nacre: " << signal_name(sig) << " received: stopped after " << after << "; checkpoint written to "
+            << w.checkpoint_path().string() << "\nnacre: continue with: nacre " << d_.path << " -o "
+            << w.directory().string() << " --restart " << w.checkpoint_path().string() << "\n";
+  return 128 + sig;
+}
+
+int RunSession::complete(const io::RunWriter& w, const std::string& files, const std::string& script) const {
+  if (log_) *log_ << "nacre: results in " << w.directory().string() << "/ (" << files << ")\n";
+  if (const int sig = pending_signal()) {  // in the last stretch: the results are complete
+    std::cerr << "nacre: " << signal_name(sig) << " received during the last stretch: results complete, charts skipped\n";
+    return 128 + sig;
+  }
+  if (d_.output.charts && !run_charts(script, w.directory(), log_)) return 1;
+  return 0;
+}
 
 int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::function<void()>& then) {
   try {

@@ -3,8 +3,12 @@
 // guard of an unfinished run, the plotting scripts (spawned, never through a shell), and the
 // messages of a stopped run. One rule in one place, so both families behave alike.
 #include <nacre/deck/deck.hpp>
+#include <nacre/io/results.hpp>
+
+#include <Kokkos_Core.hpp>
 
 #include <filesystem>
+#include <chrono>
 #include <functional>
 #include <iosfwd>
 #include <stdexcept>
@@ -45,6 +49,51 @@ void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool
 /// failure leaves no truncated PNG. Returns false (message printed) when the script failed;
 /// a missing script or python is a warning and returns true.
 bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log);
+
+/// \brief What every run's driver (Monte Carlo: run.cpp, dynamics: run_dynamics.cpp) shares around
+/// its loop: the run's execution-space instance and clock, the log, whether a live progress line
+/// (on a terminal) or a heartbeat line (off one, every [output] heartbeat s) is shown, the output
+/// directory's opening (fresh or resumed, stale temporaries reported), and the two endings that
+/// are not a failure: stopped by a signal (a checkpoint to continue from) and complete (charts).
+class RunSession {
+public:
+  RunSession(const deck::Deck& d, bool quiet, bool tty);
+
+  [[nodiscard]] double elapsed() const;
+  [[nodiscard]] std::ostream* log() const { return log_; }
+  [[nodiscard]] const Kokkos::DefaultExecutionSpace& space() const { return space_; }
+  [[nodiscard]] bool progress() const { return progress_; }    ///< a live line on stderr
+  [[nodiscard]] bool heartbeat() const { return heartbeat_; }  ///< plain log lines within a long stretch
+  /// \brief A heartbeat line is due (the last line is [output] heartbeat seconds old).
+  [[nodiscard]] bool heartbeat_due() const { return heartbeat_ && elapsed() - last_line_ >= d_.output.heartbeat; }
+  /// \brief A progress line is due (at most 4 per second, or `now` for the end of a step).
+  [[nodiscard]] bool progress_due(bool now) const { return progress_ && (now || elapsed() - last_line_ >= 0.25); }
+  /// \brief The time of the last log or progress line, for the two throttles above.
+  void line_written() { last_line_ = elapsed(); }
+  /// \brief "nacre: DECK: N bricks, M interfaces..., <space> with T threads" (what = the middle).
+  void log_start(const std::string& what) const;
+
+  /// \brief The output directory: set up afresh, or (restart non-empty) resumed after
+  /// `restart_step` from the checkpoint's directory; stale temporaries of a killed run are reported.
+  [[nodiscard]] io::RunWriter open_writer(const io::RunWriter::Options& o, const geometry::Specimen& s,
+                                          const geometry::Interfaces& f, const std::string& restart,
+                                          long restart_step) const;
+  /// \brief A run stopped by signal `sig` after `after` ("step 12 (t = ...)"): the message with the
+  /// command that continues it; returns 128 + sig.
+  int stopped_by_signal(int sig, const std::string& after, const io::RunWriter& w) const;
+  /// \brief A complete run: its results line, then the charts (skipped when a signal arrived in
+  /// the last stretch: 128 + sig); 0, or 1 when the charts failed.
+  int complete(const io::RunWriter& w, const std::string& files, const std::string& script) const;
+
+private:
+  using clock = std::chrono::steady_clock;
+  const deck::Deck& d_;
+  const clock::time_point t0_;
+  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance
+  std::ostream* log_;
+  bool progress_, heartbeat_;
+  double last_line_ = 0;
+};
 
 /// \brief `nacre sweep DECK --set KEY=V1,V2 ...` (argv[1] == "sweep"; src/app/sweep.cpp): one run
 /// per combination of the values, resumable, then sweep.json, sweep.csv and sweep.png.

@@ -4,6 +4,7 @@
 #include <nacre/app/restart.hpp>
 #include <nacre/app/run.hpp>
 #include <nacre/app/signals.hpp>
+#include <nacre/core/format.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/fracture/crack.hpp>
 #include <nacre/geometry/specimen.hpp>
@@ -112,168 +113,176 @@ mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, 
   return cp;
 }
 
-int run_deck(deck::Deck d, const RunOptions& opt) {
-  using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-  std::ostream* log = opt.quiet ? nullptr : &std::cout;
-  const std::string& restart = opt.restart;
-
-  geometry::Specimen specimen;
-  geometry::Interfaces interfaces;
-  std::size_t n_free = 0;
-  {
+/// One Monte Carlo run, from the deck to the summary: the solver on the session's
+/// execution-space instance (a restart's state validated before the output directory is
+/// touched), the writer, the row / dump / checkpoint of every load step, and the ways a run ends
+/// (complete, stopped by a signal, a step not converged). Each phase is one member.
+class MonteCarloRun {
+public:
+  MonteCarloRun(deck::Deck d, const RunOptions& opt)
+      : d_(std::move(d)), opt_(opt), session_(d_, opt.quiet, opt.tty), log_(session_.log()),
+        text_(physics_text(d_)), print_(fingerprint(text_)) {
     Kokkos::Profiling::ScopedRegion region("nacre::geometry::build");
-    build(d, specimen, interfaces, n_free);
+    build(d_, specimen_, interfaces_, n_free_);
   }
-  if (log)
-    *log << "nacre: " << d.path << ": " << specimen.size() << " bricks, " << interfaces.size()
-         << " interfaces (" << elapsed() << " s), " << Kokkos::DefaultExecutionSpace::name() << " with "
-         << Kokkos::DefaultExecutionSpace().concurrency() << " threads\n";
 
-  // Restart: read and validate everything (checksum, fingerprint, ranges, the solver's own
-  // checks) before the output directory is touched.
-  const std::string text = physics_text(d);
-  const std::string print = fingerprint(text);
-  std::optional<mc::Checkpoint> cp;
-  if (!restart.empty()) {
-    cp = validated_checkpoint(d, opt, specimen.size(), n_free);
-    d.solver.colouring = cp->colouring;  // the run continues with the schedule it started with
-  }
-  mc::Solver solver(d, specimen, interfaces, log);
-  if (cp) {
-    try {
-      solver.restore(*cp);
-    } catch (const std::runtime_error& e) {
-      throw io::CheckpointError(restart + ": " + e.what());
+  int run() {
+    session_.log_start(std::to_string(specimen_.size()) + " bricks, " + std::to_string(interfaces_.size()) +
+                       " interfaces (" + format_real(session_.elapsed(), 4) + " s)");
+    make_solver();
+    // Only now, with everything validated, is the output directory set up (a restart into
+    // another directory writes its own mesh.h5 and receives the earlier rows).
+    io::RunWriter::Options wo;
+    wo.directory = d_.output.directory, wo.hdf5 = d_.output.hdf5, wo.csv_header = mc::csv_header();
+    writer_.emplace(session_.open_writer(wo, specimen_, interfaces_, opt_.restart, cp_ ? cp_->run.step : 0));
+    crack_.emplace(specimen_, interfaces_, d_.geometry);  // the crack_* columns, the dumps' "crack"
+    last_ = named_checkpoint();                            // state after the last completed step
+    SignalGuard signals;
+    solver_->should_stop = [] { return pending_signal() != 0; };
+    t_run_ = session_.elapsed();
+    if (session_.progress()) solver_->on_progress = [this](long c, double e) { progress_line(c, e); };
+    else if (session_.heartbeat()) solver_->on_progress = [this](long c, double e) { heartbeat_line(c, e); };
+    if (!cp_) dump(0);
+    solver_->run([this](const mc::StepRecord& r) { step_done(r); });
+    if (session_.progress()) std::fprintf(stderr, "\n");
+    if (solver_->interrupted()) {
+      // The write in progress finished before the flag was seen; the step in progress is dropped
+      // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
+      writer_->checkpoint(last_);
+      return session_.stopped_by_signal(pending_signal(), "step " + std::to_string(last_.integer("step")), *writer_);
     }
-    if (log) *log << "nacre: restarting from " << restart << " at step " << cp->run.step << ", D = " << cp->displacement
-                  << ", cycle " << cp->global_cycle << "\n";
+    if (solver_->failed()) return not_converged();
+    writer_->summary(mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), read_crack(),
+                                      crack_->notch_tip_x()));
+    if (log_) {
+      const auto& pt = solver_->times();
+      *log_ << "nacre: done in " << session_.elapsed() << " s; " << solver_->global_cycle()
+            << " cycles; time split: sweep " << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng
+            << " s, polish " << pt.polish << " s; largest step residual " << solver_->max_step_residual() << "\n";
+    }
+    return session_.complete(*writer_, "steps.csv, nacre.xdmf, summary.json", "nacre_plot.py");
   }
-  // Only now, with everything validated, is the output directory set up (a restart into
-  // another directory writes its own mesh.h5 and receives the earlier rows).
-  std::optional<io::RunWriter::Resume> resume;
-  if (cp) resume = io::RunWriter::Resume{cp->run.step, std::filesystem::path(restart).parent_path()};
-  if (resume && resume->source_directory.empty()) resume->source_directory = ".";
-  io::RunWriter::Options wo;
-  wo.directory = d.output.directory, wo.hdf5 = d.output.hdf5, wo.csv_header = mc::csv_header();
-  io::RunWriter writer(wo, specimen, interfaces, resume);
-  if (log && writer.stale_temporaries_removed() > 0)
-    *log << "nacre: removed " << writer.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
-         << writer.directory().string() << "/\n";
-  const auto checkpoint_path = writer.checkpoint_path();
-  auto named_checkpoint = [&] {
-    return mc::to_named(solver.checkpoint(), print, text, d.load.final_displacement,
-                        static_cast<int>(d.load.targets().size()));
-  };
-  io::Checkpoint last = named_checkpoint();  // state after the last completed step
 
-  SignalGuard signals;
-  solver.should_stop = [] { return pending_signal() != 0; };
-  const bool progress = opt.tty && d.output.progress && !opt.quiet;
-  // off a terminal: a plain log line at most every [output] heartbeat seconds within a step
-  const bool heartbeat = !opt.tty && log && d.output.heartbeat > 0;
-  int current_step = 0;
-  const double t_run = elapsed();
-  double last_line = t_run;
-  bool step_done = false;  // the line names the step in progress, or the one just finished
-  auto progress_line = [&](long cycles, double energy) {
-    const double now = elapsed();
-    if (!step_done && now - last_line < 0.25) return;  // the solver calls after every cycle
-    last_line = now;
-    const double frac = solver.path_fraction();
-    const double spent = now - t_run;
-    const double left = frac > 0 ? spent / frac - spent : -1;
-    std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ",
-                 step_done ? current_step : current_step + 1,
-                 solver.load(), d.load.final_displacement, cycles, energy, hms(spent).c_str(), hms(left).c_str());
-    std::fflush(stderr);
-  };
-  auto heartbeat_line = [&](long cycles, double energy) {
-    const double now = elapsed();
-    if (now - last_line < d.output.heartbeat) return;
-    last_line = now;
-    *log << "  step " << current_step + 1 << " in progress: D = " << solver.load() << ", " << cycles
-         << " cycles, E = " << energy << ", elapsed " << hms(now - t_run) << "\n";
-  };
-  if (progress) solver.on_progress = progress_line;
-  else if (heartbeat) solver.on_progress = heartbeat_line;
-  const fracture::CrackTracker crack(specimen, interfaces, d.geometry);  // the crack_* columns, the dumps' "crack"
-  std::vector<double> iface_energy;
-  auto read_crack = [&] {
-    const auto st = solver.interface_states(&iface_energy);
-    return crack.measure(st, iface_energy);
-  };
-  auto dump = [&](int step) {
-    io::Snapshot snap = mc::snapshot(solver, specimen, interfaces, step);
+private:
+  /// Restart: read and validate everything (checksum, fingerprint, ranges, the solver's own
+  /// checks) before the output directory is touched.
+  void make_solver() {
+    if (!opt_.restart.empty()) {
+      cp_ = validated_checkpoint(d_, opt_, specimen_.size(), n_free_);
+      d_.solver.colouring = cp_->colouring;  // the run continues with the schedule it started with
+    }
+    solver_.emplace(session_.space(), d_, specimen_, interfaces_, log_);
+    if (!cp_) return;
+    try {
+      solver_->restore(*cp_);
+    } catch (const std::runtime_error& e) {
+      throw io::CheckpointError(opt_.restart + ": " + e.what());
+    }
+    if (log_)
+      *log_ << "nacre: restarting from " << opt_.restart << " at step " << cp_->run.step << ", D = " << cp_->displacement
+            << ", cycle " << cp_->global_cycle << "\n";
+  }
+
+  io::Checkpoint named_checkpoint() const {
+    return mc::to_named(solver_->checkpoint(), print_, text_, d_.load.final_displacement,
+                        static_cast<int>(d_.load.targets().size()));
+  }
+
+  fracture::CrackReading read_crack() {
+    const auto st = solver_->interface_states(&iface_energy_);
+    return crack_->measure(st, iface_energy_);
+  }
+
+  void dump(int step) {
+    io::Snapshot snap = mc::snapshot(*solver_, specimen_, interfaces_, step);
     // the crack from the states the snapshot holds (no second evaluation of the interfaces)
     const auto state = std::find_if(snap.fields.begin(), snap.fields.end(), [](const io::Field& f) {
       return f.centre == io::Centre::interface && f.name == "state";
     });
     if (state == snap.fields.end()) throw std::logic_error("mc::snapshot holds no interface state");
     snap.fields.push_back(
-        {io::Centre::interface, "crack", crack.crack_mask(std::get<std::vector<std::int8_t>>(state->data)), 1});
-    writer.dump(snap);
-    writer.checkpoint(last);
-  };
-  if (!cp) dump(0);
-  solver.run([&](const mc::StepRecord& r) {
-    current_step = r.step;
-    writer.row(r.step, mc::csv_row(r, read_crack()));
-    last = named_checkpoint();
-    const bool final_step = r.last;
-    if ((d.output.dump_interval > 0 && r.step % d.output.dump_interval == 0) || final_step) dump(r.step);
-    if (progress) {
-      step_done = true;
-      progress_line(r.cycles, r.energy);
-      step_done = false;
-    } else if (log) {
-      last_line = elapsed();
-      *log << "  step " << r.step << ": D = " << r.displacement << ", E = " << r.energy << ", F = " << r.reaction
-           << ", " << r.cycles << " cycles" << (r.converged ? "" : " (not converged)") << ", acceptance "
-           << r.acceptance << ", ruptured " << r.ruptured << ", residual " << r.residual << " (" << r.polish_iterations
-           << " polish iterations)\n";
-    }
-  });
-  if (progress) std::fprintf(stderr, "\n");
-  if (solver.interrupted()) {
-    // The write in progress finished before the flag was seen; the step in progress is dropped
-    // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
-    const int sig = pending_signal();
-    writer.checkpoint(last);
-    std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << last.integer("step")
-              << "; checkpoint written to " << checkpoint_path.string() << "\nnacre: continue with: nacre "
-              << d.path << " -o " << writer.directory().string() << " --restart " << checkpoint_path.string() << "\n";
-    return 128 + sig;
+        {io::Centre::interface, "crack", crack_->crack_mask(std::get<std::vector<std::int8_t>>(state->data)), 1});
+    writer_->dump(snap);
+    writer_->checkpoint(last_);
   }
-  if (solver.failed()) {
-    // "not converged after N cycles": the rows of the completed steps stay in steps.csv, the
-    // checkpoint holds the last completed step; no summary (the run did not finish).
-    const auto& f = solver.failed_step();
-    writer.checkpoint(last);
+
+  /// The live line (the solver calls after every cycle; at most 4 lines a second, and one at the
+  /// end of each step).
+  void progress_line(long cycles, double energy) {
+    if (!session_.progress_due(step_done_)) return;
+    session_.line_written();
+    const double frac = solver_->path_fraction();
+    const double spent = session_.elapsed() - t_run_;
+    const double left = frac > 0 ? spent / frac - spent : -1;
+    std::fprintf(stderr, "\r  step %4d  D %.4g/%.4g  cycles %8ld  E %.6g  elapsed %s  left ~%s   ",
+                 step_done_ ? current_step_ : current_step_ + 1, solver_->load(), d_.load.final_displacement, cycles,
+                 energy, hms(spent).c_str(), hms(left).c_str());
+    std::fflush(stderr);
+  }
+  /// Off a terminal: a plain log line at most every [output] heartbeat seconds within a step.
+  void heartbeat_line(long cycles, double energy) {
+    if (!session_.heartbeat_due()) return;
+    session_.line_written();
+    *log_ << "  step " << current_step_ + 1 << " in progress: D = " << solver_->load() << ", " << cycles
+          << " cycles, E = " << energy << ", elapsed " << hms(session_.elapsed() - t_run_) << "\n";
+  }
+
+  /// A completed load step: its row, the dump and checkpoint where due, the log or progress line.
+  void step_done(const mc::StepRecord& r) {
+    current_step_ = r.step;
+    writer_->row(r.step, mc::csv_row(r, read_crack()));
+    last_ = named_checkpoint();
+    if ((d_.output.dump_interval > 0 && r.step % d_.output.dump_interval == 0) || r.last) dump(r.step);
+    if (session_.progress()) {
+      step_done_ = true;
+      progress_line(r.cycles, r.energy);
+      step_done_ = false;
+    } else if (log_) {
+      session_.line_written();
+      *log_ << "  step " << r.step << ": D = " << r.displacement << ", E = " << r.energy << ", F = " << r.reaction
+            << ", " << r.cycles << " cycles" << (r.converged ? "" : " (not converged)") << ", acceptance "
+            << r.acceptance << ", ruptured " << r.ruptured << ", residual " << r.residual << " ("
+            << r.polish_iterations << " polish iterations)\n";
+    }
+  }
+
+  /// "not converged after N cycles": the rows of the completed steps stay in steps.csv, the
+  /// checkpoint holds the last completed step; no summary (the run did not finish). Exit 4.
+  int not_converged() {
+    const auto& f = solver_->failed_step();
+    writer_->checkpoint(last_);
     std::cerr << "nacre: step " << f.step << " (D = " << f.displacement << ") not converged after " << f.cycles
-              << " cycles" << (f.polish_iterations ? " and " + std::to_string(f.polish_iterations) + " polish iterations"
-                                                   : std::string()) << ": residual " << f.residual << " > tolerance " << d.solver.residual_tolerance << " ("
-              << d.where("solver.residual_tolerance") << ")" << (f.reverts ? " after " + std::to_string(f.reverts) +
-              " smaller increments" : std::string()) << "; steps.csv holds the " << last.integer("step")
-              << " completed steps and " << checkpoint_path.string() << " the last of them\n";
+              << " cycles"
+              << (f.polish_iterations ? " and " + std::to_string(f.polish_iterations) + " polish iterations"
+                                      : std::string())
+              << ": residual " << f.residual << " > tolerance " << d_.solver.residual_tolerance << " ("
+              << d_.where("solver.residual_tolerance") << ")"
+              << (f.reverts ? " after " + std::to_string(f.reverts) + " smaller increments" : std::string())
+              << "; steps.csv holds the " << last_.integer("step") << " completed steps and "
+              << writer_->checkpoint_path().string() << " the last of them\n";
     return 4;
   }
-  writer.summary(mc::summary_json(solver, d, writer.last_step(), elapsed(), read_crack(), crack.notch_tip_x()));
-  if (log) {
-    const auto& pt = solver.times();
-    *log << "nacre: done in " << elapsed() << " s; " << solver.global_cycle() << " cycles; time split: sweep "
-         << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng << " s, polish " << pt.polish
-         << " s; largest step residual " << solver.max_step_residual() << "\n";
-    *log << "nacre: results in " << writer.directory().string() << "/ (steps.csv, nacre.xdmf, summary.json)\n";
-  }
-  if (const int sig = pending_signal()) {
-    std::cerr << "nacre: " << signal_name(sig) << " received after the last step: results complete, charts skipped\n";
-    return 128 + sig;
-  }
-  if (d.output.charts && !run_charts("nacre_plot.py", writer.directory(), log)) return 1;
-  return 0;
-}
+
+  deck::Deck d_;
+  const RunOptions& opt_;
+  RunSession session_;
+  std::ostream* log_;
+  const std::string text_, print_;  ///< the deck's physics text and its fingerprint (checkpoints)
+  geometry::Specimen specimen_;
+  geometry::Interfaces interfaces_;
+  std::size_t n_free_ = 0;
+  std::optional<mc::Checkpoint> cp_;
+  std::optional<mc::Solver> solver_;
+  std::optional<io::RunWriter> writer_;
+  std::optional<fracture::CrackTracker> crack_;
+  std::vector<double> iface_energy_;
+  io::Checkpoint last_;
+  int current_step_ = 0;
+  bool step_done_ = false;  ///< the progress line names the step just finished (else the one in progress)
+  double t_run_ = 0;
+};
+
+int run_deck(deck::Deck d, const RunOptions& opt) { return MonteCarloRun(std::move(d), opt).run(); }
 
 }  // namespace
 

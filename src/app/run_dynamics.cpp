@@ -230,10 +230,11 @@ namespace {
 class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
-      : d_(d), D_(d.dynamics), opt_(opt), log_(opt.quiet ? nullptr : &std::cout), t0_(clock::now()), setup_(build(d)),
+      : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty), log_(session_.log()),
+        space_(session_.space()), setup_(build(d)),
         p_(dynamics_params(d, setup_.specimen.size())), crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
-        progress_(opt.tty && d.output.progress && !opt.quiet) {}
+        progress_(session_.progress()) {}
 
   int run() {
     log_start();
@@ -252,10 +253,9 @@ public:
   }
 
 private:
-  using clock = std::chrono::steady_clock;
   static constexpr int kContinue = -1;
 
-  [[nodiscard]] double elapsed() const { return std::chrono::duration<double>(clock::now() - t0_).count(); }
+  [[nodiscard]] double elapsed() const { return session_.elapsed(); }
   [[nodiscard]] bool adaptive() const { return p_.dt_mode == dyn::DtMode::adaptive; }
   // fixed dt: the step count is known; adaptive: the run ends at end_time (the count is an estimate)
   [[nodiscard]] bool finished() const {
@@ -266,12 +266,12 @@ private:
     return sim_->steps() + std::max(0L, static_cast<long>(std::ceil((D_.end_time - sim_->time()) / sim_->dt() - 1e-9)));
   }
 
-  void log_start() const {
-    if (!log_) return;
-    *log_ << "nacre: " << d_.path << ": " << setup_.specimen.size() << " bricks, " << setup_.interfaces.size()
-          << " interfaces, dynamics " << method_name(p_.method) << scheme_label(p_) << " (E = " << p_.youngs_modulus
-          << " N/mm^2, alpha_d = " << p_.alpha_d << " 1/s, beta_d = " << p_.beta_d << " s), " << space_.name()
-          << " with " << space_.concurrency() << " threads\n";
+    void log_start() const {
+    std::ostringstream o;
+    o << setup_.specimen.size() << " bricks, " << setup_.interfaces.size() << " interfaces, dynamics "
+      << method_name(p_.method) << scheme_label(p_) << " (E = " << p_.youngs_modulus << " N/mm^2, alpha_d = "
+      << p_.alpha_d << " 1/s, beta_d = " << p_.beta_d << " s)";
+    session_.log_start(o.str());
   }
 
   /// The simulation at the step the run takes: a restart's, the deck's dt, or dt_fraction of the
@@ -335,20 +335,12 @@ private:
   }
 
   void open_writer() {
-    fields_.emplace(setup_.specimen, setup_.interfaces, sim_->snapshot());
-    std::optional<io::RunWriter::Resume> resume;
-    if (!opt_.restart.empty()) {
-      resume = io::RunWriter::Resume{cp_.step, std::filesystem::path(opt_.restart).parent_path()};
-      if (resume->source_directory.empty()) resume->source_directory = ".";
-    }
+        fields_.emplace(setup_.specimen, setup_.interfaces, sim_->snapshot());
     // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
     io::RunWriter::Options wo;
     wo.directory = d_.output.directory, wo.hdf5 = d_.output.hdf5, wo.csv_header = series_header();
     wo.csv_name = io::names::dyn_table, wo.dump_digits = 9, wo.elements = fields_->mesh();
-    writer_.emplace(wo, setup_.specimen, setup_.interfaces, resume);
-    if (log_ && writer_->stale_temporaries_removed() > 0)
-      *log_ << "nacre: removed " << writer_->stale_temporaries_removed()
-            << " stale temporary file(s) of a killed run in " << writer_->directory().string() << "/\n";
+    writer_.emplace(session_.open_writer(wo, setup_.specimen, setup_.interfaces, opt_.restart, cp_.step));
   }
 
   /// The crack now (fracture/crack.hpp).
@@ -525,8 +517,8 @@ private:
   /// The log line of a dump, the heartbeat off a terminal, the progress line on one.
   void report(const SeriesRow& r, bool dumped) {
     const long step = r.step;
-    if (log_ && !progress_ && (dumped || (heartbeat_ && elapsed() - last_line_ >= d_.output.heartbeat))) {
-      last_line_ = elapsed();
+    if (log_ && !progress_ && (dumped || session_.heartbeat_due())) {
+      session_.line_written();
       if (dumped) {
         *log_ << "  step " << step << "/" << total_now() << ": t = " << r.time << " s, D = " << r.displacement
               << ", F = " << r.reaction << ", kinetic " << r.e.kinetic << ", balance " << r.e.balance_residual
@@ -538,8 +530,8 @@ private:
               << hms(spent) << ", left ~" << hms(left) << "\n";
       }
     }
-    if (progress_ && (elapsed() - last_progress_ > 0.25 || finished())) {
-      last_progress_ = elapsed();
+    if (session_.progress_due(finished())) {
+      session_.line_written();
       const auto [spent, left] = spent_left(step);
       std::fprintf(stderr, "\r  step %ld/%ld  t %.4g/%.4g s  D %.4g  F %.4g  ruptured %d  elapsed %s  left ~%s   ",
                    step, total_now(), r.time, D_.end_time, r.displacement, r.reaction, r.ruptured, hms(spent).c_str(),
@@ -561,18 +553,14 @@ private:
     writer_->flush_rows();
     status_ = "interrupted";
     summary();
-    std::cerr << "nacre: " << signal_name(sig) << " received: stopped after step " << step << " (t = " << sim_->time()
-              << " s); checkpoint written to " << writer_->checkpoint_path().string()
-              << "\nnacre: continue with: nacre " << d_.path << " -o " << writer_->directory().string() << " --restart "
-              << writer_->checkpoint_path().string() << "\n";
-    return 128 + sig;
+        return session_.stopped_by_signal(sig, "step " + std::to_string(step) + " (t = " + num(sim_->time()) + " s)",
+                                      *writer_);
   }
 
   int loop() {
     SignalGuard signals;  // SIGINT/SIGTERM: stop after the chunk in progress with a checkpoint
-    last_flush_ = last_line_ = elapsed();
-    // off a terminal: a plain log line at most every [output] heartbeat seconds between dumps
-    heartbeat_ = !opt_.tty && log_ && d_.output.heartbeat > 0;
+        last_flush_ = elapsed();
+    session_.line_written();
     while (!finished()) {
       bool dumped = false;
       if (const int rc = advance_one_row(dumped); rc != kContinue) return rc;
@@ -585,27 +573,18 @@ private:
     if (progress_) std::fprintf(stderr, "\n");
     writer_->flush_rows();
     summary();
-    if (log_) {
+        if (log_)
       *log_ << "nacre: done in " << elapsed() << " s; " << sim_->steps() << " steps (" << seconds_per_step() * 1e6
             << " us/step), t = " << sim_->time() << " s, " << sim_->ruptured() << " interfaces ruptured\n";
-      *log_ << "nacre: results in " << writer_->directory().string()
-            << "/ (series.csv, nacre.xdmf, checkpoint.h5, summary.json)\n";
-    }
-    if (const int sig = pending_signal()) {  // in the last chunk: the results are complete
-      std::cerr << "nacre: " << signal_name(sig)
-                << " received during the last chunk: results complete, charts skipped\n";
-      return 128 + sig;
-    }
-    if (d_.output.charts && !run_charts("nacre_dyn_plot.py", writer_->directory(), log_)) return 1;
-    return 0;
+    return session_.complete(*writer_, "series.csv, nacre.xdmf, checkpoint.h5, summary.json", "nacre_dyn_plot.py");
   }
 
   const deck::Deck& d_;
   const deck::Dynamics& D_;
   const DynRunOptions& opt_;
+    RunSession session_;
   std::ostream* log_;
-  const clock::time_point t0_;
-  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance
+  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance (the session's)
   const Setup setup_;
   dyn::Params p_;
   const fracture::CrackTracker crack_;
@@ -625,8 +604,7 @@ private:
   long step0_ = 0;
   std::string status_ = "done", why_;
   double worst_balance_ = 0;  ///< the largest |balance residual| of the rows the balance check covers
-  double last_flush_ = 0, last_progress_ = -1, last_line_ = 0;
-  bool heartbeat_ = false;
+    double last_flush_ = 0;
 };
 
 }  // namespace
