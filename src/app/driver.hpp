@@ -2,6 +2,7 @@
 // What the Monte Carlo and the dynamics drivers share around their run loops: the overwrite
 // guard of an unfinished run, the plotting scripts (spawned, never through a shell), and the
 // messages of a stopped run. One rule in one place, so both families behave alike.
+#include <nacre/core/backend.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/io/results.hpp>
 
@@ -57,11 +58,12 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
 /// are not a failure: stopped by a signal (a checkpoint to continue from) and complete (charts).
 class RunSession {
 public:
-  RunSession(const deck::Deck& d, bool quiet, bool tty);
+    RunSession(const deck::Deck& d, bool quiet, bool tty, const Backend& backend = {});
 
   [[nodiscard]] double elapsed() const;
   [[nodiscard]] std::ostream* log() const { return log_; }
-  [[nodiscard]] const Kokkos::DefaultExecutionSpace& space() const { return space_; }
+    /// \brief The run's backend (`--backend`; the default space unless asked).
+  [[nodiscard]] const Backend& backend() const { return backend_; }
   [[nodiscard]] bool progress() const { return progress_; }    ///< a live line on stderr
   [[nodiscard]] bool heartbeat() const { return heartbeat_; }  ///< plain log lines within a long stretch
   /// \brief A heartbeat line is due (the last line is [output] heartbeat seconds old).
@@ -89,7 +91,7 @@ private:
   using clock = std::chrono::steady_clock;
   const deck::Deck& d_;
   const clock::time_point t0_;
-  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance
+    const Backend backend_;  ///< every kernel of the run goes to this instance
   std::ostream* log_;
   bool progress_, heartbeat_;
   double last_line_ = 0;

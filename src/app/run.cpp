@@ -70,6 +70,7 @@ void check_kokkos_flags(const std::vector<char*>& args) {
 struct RunOptions {
   bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
+  std::string backend;  ///< `--backend NAME` ("" = the default space)
 };
 
 /// \brief The specimen of a deck, refused (DeckError) when no brick is free.
@@ -171,7 +172,7 @@ private:
       cp_ = validated_checkpoint(d_, opt_, specimen_.size(), n_free_);
       d_.solver.colouring = cp_->colouring;  // the run continues with the schedule it started with
     }
-    solver_.emplace(session_.space(), d_, specimen_, interfaces_, log_);
+    solver_.emplace(session_.backend().default_instance(), d_, specimen_, interfaces_, log_);
     if (!cp_) return;
     try {
       solver_->restore(*cp_);
@@ -296,7 +297,15 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
-  if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+    if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+  // `nacre --backend list`: the backends this build can run, the default first (no deck)
+  for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
+    if (std::string_view(argv[i]) == "--backend=list" ||
+        (std::string_view(argv[i]) == "--backend" && std::string_view(argv[i + 1]) == "list")) {
+      const auto n = Backend::names();
+      for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
+      return 0;
+    }
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
@@ -316,6 +325,16 @@ int main(int argc, char* argv[]) {
                "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
   cli.add_flag("--overwrite", opt.overwrite,
                "start afresh even where the output directory holds the checkpoint of an unfinished run");
+    cli.add_option("--backend", opt.backend,
+                 "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
+                 "default: Kokkos' default space. [dynamics] decks only in this version")
+      ->check([](const std::string& b) {
+        const auto n = Backend::names();
+        if (std::find(n.begin(), n.end(), b) != n.end()) return std::string();
+        std::string list;
+        for (const auto& x : n) list += (list.empty() ? "" : ", ") + x;
+        return "\"" + b + "\" is not a backend of this build; expected one of: " + list;
+      });
   cli.add_flag("--extend", opt.extend,
                "with --restart: the deck's final_displacement may differ from the checkpoint's run "
                "(continue a finished run further)");
@@ -337,6 +356,11 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   if (!out_override.empty()) d.output.directory = out_override;
+    if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
+    std::cerr << "nacre: error: --backend " << opt.backend << ": the Monte Carlo solver runs on the default backend ("
+              << Backend::names().front() << ") in this version; --backend applies to [dynamics] decks\n";
+    return 2;
+  }
   if (critical && !d.dynamics.enabled) {
     std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
     return 2;
@@ -378,7 +402,9 @@ int main(int argc, char* argv[]) {
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
     if (critical) return print_critical_step(d, opt.quiet);
-    if (d.dynamics.enabled) return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart});
+        if (d.dynamics.enabled)
+      return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
+                              opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)});
     return run_deck(d, opt);
   } catch (const deck::DeckError& e) {
     std::cerr << "\nnacre: error: " << e.what() << "\n";

@@ -230,8 +230,8 @@ namespace {
 class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
-      : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty), log_(session_.log()),
-        space_(session_.space()), setup_(build(d)),
+      : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
+        backend_(session_.backend()), setup_(build(d)),
         p_(dynamics_params(d, setup_.specimen.size())), crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
         progress_(session_.progress()) {}
@@ -284,7 +284,7 @@ private:
     }
     const bool from_fraction = restart.empty() && D_.dt <= 0;
     if (from_fraction) p_.dt = 1e-9;  // replaced below, before the first step
-    sim_.emplace(space_, p_, setup_.specimen, setup_.interfaces, d_.mortar);
+    sim_.emplace(backend_, p_, setup_.specimen, setup_.interfaces, d_.mortar);
     if (from_fraction) take_step_from_fraction();
     fixed_total_ = std::max(1L, static_cast<long>(std::ceil(D_.end_time / p_.dt - 1e-9)));
     if (restart.empty()) return;
@@ -304,7 +304,7 @@ private:
       Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
       dyn::Params q = p_;
       q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
-      const double hb = dyn::critical_step(space_, q, setup_.specimen, setup_.interfaces, d_.mortar,
+      const double hb = dyn::critical_step(backend_, q, setup_.specimen, setup_.interfaces, d_.mortar,
                                            critical_trial_steps, critical_rtol);
       if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
       if (log_)
@@ -433,8 +433,9 @@ private:
       c["thickness"] = p_.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
       c["bed_work_of_fracture"] = d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2;
     }
-    j["threads"] = space_.concurrency();
-    j["execution_space"] = space_.name();
+        j["threads"] = backend_.concurrency();
+    j["execution_space"] = backend_.kokkos_name();
+    j["backend"] = backend_.name();
     j["seconds"] = elapsed();
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
@@ -488,7 +489,7 @@ private:
     bool ok;
     {
       Kokkos::Profiling::ScopedRegion region("nacre::app::advance");
-      ok = sim_->advance(space_, next - step);
+      ok = sim_->advance(next - step);
     }
     if (!ok) return unstable(sim_->why());
     step = sim_->steps();
@@ -584,7 +585,7 @@ private:
   const DynRunOptions& opt_;
     RunSession session_;
   std::ostream* log_;
-  const Kokkos::DefaultExecutionSpace space_;  ///< every kernel of the run goes to this instance (the session's)
+    const Backend& backend_;  ///< every kernel of the run goes to this instance (the session's)
   const Setup setup_;
   dyn::Params p_;
   const fracture::CrackTracker crack_;

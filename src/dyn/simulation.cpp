@@ -21,6 +21,7 @@
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/monitor.hpp>
 #include <nacre/dyn/simulation.hpp>
+#include <nacre/core/backend.hpp>
 
 #include <cmath>
 #include <sstream>
@@ -35,8 +36,7 @@ constexpr double kTinyEnergy = 1e-20;
 /// elements below this share of the energy are not watched for growth (rounding-level shares
 /// jump by any factor)
 constexpr double kGrowthFloor = 1e-6;
-using Exec = Kokkos::DefaultExecutionSpace;
-using Mem = Exec::memory_space;
+using Mem = MemSpace;  ///< where the model and the state live, whatever the run's backend
 }  // namespace
 
 struct Simulation::Impl {
@@ -51,7 +51,7 @@ struct Simulation::Impl {
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
   loading::Ramp ramp;
-  Exec space;  ///< instance the run's kernels go to (set by advance)
+    Backend backend;  ///< the instance the run's kernels go to (every launch: backend.visit)
   long step = 0;
   /// time of step n: t_base + (n - step_base) dt, exactly n dt while dt never changed (the
   /// adaptive mode moves the base to the step of each change)
@@ -72,8 +72,8 @@ struct Simulation::Impl {
   int n_tiles = 0;
   /// BIE's step, chosen once (choose_bie_step) from the scheme and whether the shared J^-1 is
   /// fused over the tiles: one of bie_step's overloads, and what it needs besides the functors.
-  using BieStepFn = void (*)(const Exec&, const BieIntegrator<Mem>&, const InterfaceOp<Mem>&, const BieSolveOp<Mem>&,
-                             const BieStepPlan&);
+  using BieStepFn = void (*)(const Backend&, const BieIntegrator<Mem>&, const InterfaceOp<Mem>&,
+                             const BieSolveOp<Mem>&, const BieStepPlan&);
   BieStepFn bie_step_fn = nullptr;
   BieStepPlan bie_plan;
   [[nodiscard]] bool is_bie() const { return p.method == Method::bie; }
@@ -126,9 +126,9 @@ struct Simulation::Impl {
   }
   /// bie_step's overload for (Scheme, Fused, Jinv) behind one function-pointer type.
   template <class Scheme, bool Fused, class Jinv>
-  static void bie_step_of(const Exec& s, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
+  static void bie_step_of(const Backend& b, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
                           const BieSolveOp<Mem>& so, const BieStepPlan& pl) {
-    bie_step(s, Scheme{}, std::bool_constant<Fused>{}, Jinv{}, it, op, so, pl);
+    b.visit([&](const auto& s) { bie_step(s, Scheme{}, std::bool_constant<Fused>{}, Jinv{}, it, op, so, pl); });
   }
 
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).
@@ -139,18 +139,20 @@ struct Simulation::Impl {
 
   /// The state at t = 0: driven elements at their prescribed values, BIE's a_0, the start's work
   /// books, and the step bound's reference.
-  void start(const Exec& space) {
-    impose(space, 0.0);
+    void start() {
+    impose(0.0);
     // BIE carries a_n into the step (eq. 4.6; the split step M^-1 F instead): start from the
     // initial state's.
-    if (is_bie())
-      bie_accelerations(space, bie_integrator(), InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface,
-                        p.bie_scheme == BieScheme::split);
+        backend.visit([&](const auto& space) {
+      if (is_bie())
+        bie_accelerations(space, bie_integrator(), InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface,
+                          p.bie_scheme == BieScheme::split);
     // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
     // kinetic energy is counted as work done by the machine, so the balance starts closed.
-    set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
-                     m.n_elem);
-    space.fence();
+          set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
+                       m.n_elem);
+      space.fence();
+    });
     read_bound(false);
     report.bound_start = report.bound;
   }
@@ -163,7 +165,7 @@ struct Simulation::Impl {
   /// Evaluate the bound now into `report` (the controlling interface only when asked: a stop).
   void read_bound(bool where) {
     const auto sb = step_bound_op();
-    const auto r = dyn::step_bound(space, sb, m.n_elem);
+    const auto r = backend.visit([&](const auto& space) { return dyn::step_bound(space, sb, m.n_elem); });
     report.dt = p.dt;
     report.bound = r.val > 0 ? 2.0 / std::sqrt(r.val) : 0.0;
     report.element = r.val > 0 ? r.loc : -1;
@@ -172,7 +174,7 @@ struct Simulation::Impl {
     report.iface = -1, report.penetration = 0;
     if (where && report.element >= 0) {
       int i;
-      dyn::controlling_interface(space, sb, report.element, i, report.penetration);
+      backend.visit([&](const auto& space) { dyn::controlling_interface(space, sb, report.element, i, report.penetration); });
       report.iface = i >= 0 && i < m.n_mortar ? map.iface_geom[i] : -1;
     }
   }
@@ -190,16 +192,18 @@ struct Simulation::Impl {
 
   /// One step of the run's integrator (u, v, a from t_n to t_{n+1}; `it` carries the opening),
   /// chosen once (choose_step): velocity Verlet per element or tiled, or BIE's chosen step.
-  using StepFn = void (*)(const Impl&, const Exec&, const Integrator<Mem>&);
+  using StepFn = void (*)(const Impl&, const Integrator<Mem>&);
   StepFn step_fn = nullptr;
   template <bool Tiled>
-  static void verlet_of(const Impl& I, const Exec& s, const Integrator<Mem>& it) {
-    verlet_step(s, ElementTiles<Tiled>{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
+  static void verlet_of(const Impl& I, const Integrator<Mem>& it) {
+    I.backend.visit([&](const auto& s) {
+      verlet_step(s, ElementTiles<Tiled>{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
+    });
   }
-  static void bie_of(const Impl& I, const Exec& s, const Integrator<Mem>& it) {
+  static void bie_of(const Impl& I, const Integrator<Mem>& it) {
     auto bi = I.bie_integrator();
     bi.ex = it;
-    I.bie_step_fn(s, bi, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.bie_solver(), I.bie_plan);
+    I.bie_step_fn(I.backend, bi, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.bie_solver(), I.bie_plan);
   }
   void choose_step() {
     choose_bie_step();
@@ -207,21 +211,25 @@ struct Simulation::Impl {
   }
 
   /// Driven elements at their prescribed values for time t (no step taken).
-  void impose(const Exec& space, double t) {
+    void impose(double t) {
     auto it = integrator();
     const loading::Opening o = ramp(t);
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
-    impose_drive(space, it, m.n_elem);
-    space.fence();
+    backend.visit([&](const auto& space) {
+      impose_drive(space, it, m.n_elem);
+      space.fence();
+    });
   }
 
-  void step_once(const Exec& space) {
+    void step_once() {
     const loading::Opening o = ramp(now(step + 1));
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(now(step));
-    step_fn(*this, space, it);
-    update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);  // irreversible damage: after every step
+        step_fn(*this, it);
+    backend.visit([&](const auto& space) {  // irreversible damage: after every step
+      update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);
+    });
     ++step;
   }
 
@@ -240,25 +248,39 @@ struct Simulation::Impl {
     ++report.dt_changes;
   }
 
-  void save_copy(const Exec& space) {
-    Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
-    Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
-    if (m.hist.data()) Kokkos::deep_copy(space, hist0, m.hist);
+    void save_copy() {
+    backend.visit([&](const auto& space) {
+      Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
+      Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
+      if (m.hist.data()) Kokkos::deep_copy(space, hist0, m.hist);
+    });
   }
-  void load_copy(const Exec& space) {
-    Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
-    Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
-    if (m.hist.data()) Kokkos::deep_copy(space, m.hist, hist0);
+  void load_copy() {
+    backend.visit([&](const auto& space) {
+      Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
+      Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
+      if (m.hist.data()) Kokkos::deep_copy(space, m.hist, hist0);
+    });
   }
 
-  double sum_acc(AccCol col) { return column_sum(space, ws, acc, col, m.n_elem); }
-  double sum_driven(DrivenCol col) { return column_sum(space, ws, dacc, col, m.n_driven); }
-  double kinetic(bool free_only, bool poison) {
-    return element_sum(space, ws, KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison},
-                       m.n_elem);
+    double sum_acc(AccCol col) {
+    return backend.visit([&](const auto& space) { return column_sum(space, ws, acc, col, m.n_elem); });
   }
-  double strain() { return element_sum(space, ws, StrainEnergy<Mem>{m.type, m.K, u, m.nd}, m.n_elem); }
-  double cohesive() { return cohesive_energy(space, ws, InterfaceOp<Mem>(m, u, iforce), m.n_iface); }
+  double sum_driven(DrivenCol col) {
+    return backend.visit([&](const auto& space) { return column_sum(space, ws, dacc, col, m.n_driven); });
+  }
+  double kinetic(bool free_only, bool poison) {
+        const KineticEnergy<Mem> k{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison};
+    return backend.visit([&](const auto& space) { return element_sum(space, ws, k, m.n_elem); });
+  }
+    double strain() {
+    const StrainEnergy<Mem> se{m.type, m.K, u, m.nd};
+    return backend.visit([&](const auto& space) { return element_sum(space, ws, se, m.n_elem); });
+  }
+  double cohesive() {
+    const InterfaceOp<Mem> op(m, u, iforce);
+    return backend.visit([&](const auto& space) { return cohesive_energy(space, ws, op, m.n_iface); });
+  }
 
   /// The energy books now; the balance residual is (W + E_in - (S + K + C + D)) / max|term|.
   Energies energies() {
@@ -322,7 +344,7 @@ struct Simulation::Impl {
       const ElementGrowth<Mem> g{StrainEnergy<Mem>{m.type, m.K, u, m.nd},
                                  KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
                                  share, run, 1.0 / (e.strain + e.kinetic), p.growth_factor, kGrowthFloor};
-      const auto gr = element_growth(space, g, m.n_elem);
+      const auto gr = backend.visit([&](const auto& space) { return element_growth(space, g, m.n_elem); });
       report.growth_longest = std::max(report.growth_longest, gr.val);
       if (gr.val >= p.growth_checks) {
         auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(share, gr.loc));
@@ -358,7 +380,7 @@ struct Simulation::Impl {
   }
 };
 
-Simulation::Simulation(const Exec& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+Simulation::Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                        const deck::Mortar& mortar)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
@@ -391,8 +413,8 @@ Simulation::Simulation(const Exec& space, const Params& p, const geometry::Speci
   I.choose_step();
   I.dt0 = p.dt;
   I.allocate();
-  I.space = space;
-  I.start(space);
+    I.backend = backend;
+  I.start();
 }
 
 Simulation::~Simulation() = default;
@@ -400,32 +422,37 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
+  impl_->backend = Backend(space);
+  return advance(n);
+}
+
+bool Simulation::advance(long n) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
   auto& I = *impl_;
-  I.space = space;
+  const Backend& space = I.backend;
   long done = 0;
   while (done < n) {
     const long chunk = std::min<long>(kCheckEvery, n - done);
-    I.save_copy(space);
+        I.save_copy();
     const long start = I.step;
-    for (long k = 0; k < chunk; ++k) I.step_once(space);
+    for (long k = 0; k < chunk; ++k) I.step_once();
     space.fence();
     if (const auto h = I.healthy(true); h != Impl::Health::ok) {
       if (h == Impl::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
-        I.load_copy(space);                     // back to the chunk's start, which passed every check
+                I.load_copy();  // back to the chunk's start, which passed every check
         I.step = start;
         space.fence();
         return false;
       }
       // replay the chunk step by step to stop at the last good step
-      I.load_copy(space);
+            I.load_copy();
       I.step = start;
       for (long k = 0; k < chunk; ++k) {
-        I.save_copy(space);
-        I.step_once(space);
+        I.save_copy();
+        I.step_once();
         space.fence();
         if (I.healthy(false) != Impl::Health::ok) {
-          I.load_copy(space);
+          I.load_copy();
           --I.step;
           space.fence();
           return false;
@@ -451,7 +478,7 @@ void Simulation::set_initial_dt(double h) {
   I.change_dt(h);
   I.dt0 = h;
   I.report.dt_changes = 0;
-  I.start(I.space);  // a_0 and the start's books at the new step
+    I.start();  // a_0 and the start's books at the new step
 }
 StepReport Simulation::step_check() {
   impl_->read_bound(true);
@@ -469,12 +496,14 @@ double Simulation::reaction() const { return impl_->sum_driven(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
-  return count_ruptured(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+    const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+  return I.backend.visit([&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar); });
 }
 
 double Simulation::max_penetration() const {
   auto& I = *impl_;
-  return dyn::max_penetration(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_mortar);
+    const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+  return I.backend.visit([&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); });
 }
 
 Snapshot Simulation::snapshot() const {
@@ -529,15 +558,16 @@ void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>&
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
   const int nm = I.m.n_mortar;  // bed/head only
-  Kokkos::View<double*> dmg(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage"),
-                            std::max(nm, 1));
-  Kokkos::View<int*> st(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
-                        std::max(nm, 1));
-  Kokkos::View<double*> en;
+    Kokkos::View<double*, Mem> dmg(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage"),
+                                 std::max(nm, 1));
+  Kokkos::View<int*, Mem> st(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
+                             std::max(nm, 1));
+  Kokkos::View<double*, Mem> en;
   if (energy)
-    en = Kokkos::View<double*>(Kokkos::view_alloc(I.space, Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"),
-                               std::max(nm, 1));
-  dyn::interface_damage(I.space, InterfaceOp<Mem>(I.m, I.u, I.iforce), nm, dmg, st, en);
+    en = Kokkos::View<double*, Mem>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"),
+                                    std::max(nm, 1));
+  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+  I.backend.visit([&](const auto& space) { dyn::interface_damage(space, op, nm, dmg, st, en); });
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, en);
@@ -669,7 +699,7 @@ double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->
 double Simulation::bie_residual() const {
   auto& I = *impl_;
   if (!I.is_bie() || I.step == 0) return 0.0;
-  return bie_last_residual(I.space, I.acc, I.m.drive, I.m.n_elem);
+    return I.backend.visit([&](const auto& space) { return bie_last_residual(space, I.acc, I.m.drive, I.m.n_elem); });
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
 int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
@@ -677,7 +707,7 @@ double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added
 double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
 
-double critical_step(const Exec& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+double critical_step(const Backend& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                      const deck::Mortar& mortar, long steps, double rtol) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::critical_step");
   auto stable = [&](double dt) {
@@ -686,8 +716,8 @@ double critical_step(const Exec& space, const Params& p, const geometry::Specime
     // a trial is stable when finite, below the kinetic bound and (balance_tolerance > 0) with
     // closed books; the growth and step-bound checks watch a run, not a trial
     q.growth_factor = 0, q.step_check = false, q.dt_mode = DtMode::fixed;
-    Simulation sim(space, q, s, f, mortar);
-    return sim.advance(space, steps);
+        Simulation sim(space, q, s, f, mortar);
+    return sim.advance(steps);
   };
   double h = p.dt;
   if (!(h > 0)) {

@@ -1,0 +1,64 @@
+// The run-time backend choice (include/nacre/core/backend.hpp): names, parsing, and the few
+// calls that need no kernel.
+#include <nacre/core/backend.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+#include <utility>
+
+namespace nacre {
+
+namespace {
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+/// Kokkos' names of AnySpace's alternatives, in order (static: no instance, no initialised Kokkos).
+template <std::size_t... I>
+std::vector<std::string> space_names(std::index_sequence<I...>) {
+  return {std::string(std::variant_alternative_t<I, AnySpace>::name())...};
+}
+
+/// An instance of alternative k (Kokkos initialised).
+template <std::size_t... I>
+AnySpace instance(std::size_t k, std::index_sequence<I...>) {
+  AnySpace s;
+  ((k == I ? (s = AnySpace(std::in_place_index<I>), 0) : 0), ...);
+  return s;
+}
+constexpr auto kAll = std::make_index_sequence<std::variant_size_v<AnySpace>>{};
+}  // namespace
+
+std::vector<std::string> Backend::names() {
+  auto n = space_names(kAll);
+  for (auto& x : n) x = lower(x);
+  return n;
+}
+
+Backend Backend::parse(const std::string& name) {
+  const auto n = names();
+  for (std::size_t k = 0; k < n.size(); ++k)
+    if (n[k] == lower(name)) {
+      Backend b;
+      b.space_ = instance(k, kAll);
+      return b;
+    }
+  std::string list;
+  for (const auto& x : n) list += (list.empty() ? "" : ", ") + x;
+  throw std::invalid_argument("backend \"" + name + "\" is not one this build can run; expected one of: " + list);
+}
+
+std::string Backend::name() const { return lower(kokkos_name()); }
+const char* Backend::kokkos_name() const {
+  return visit([](const auto& e) { return e.name(); });
+}
+int Backend::concurrency() const {
+  return visit([](const auto& e) { return e.concurrency(); });
+}
+void Backend::fence() const {
+  visit([](const auto& e) { e.fence(); });
+}
+
+}  // namespace nacre
