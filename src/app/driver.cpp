@@ -25,14 +25,14 @@ extern char** environ;
 namespace nacre::app {
 
 RunSession::RunSession(const deck::Deck& d, bool quiet, bool tty, const Backend& backend)
-    : d_(d), t0_(clock::now()), backend_(backend), log_(quiet ? nullptr : &std::cout), progress_(tty && d.output.progress && !quiet),
-      heartbeat_(!tty && !quiet && d.output.heartbeat > 0) {}
+    : d_(d), t0_(clock::now()), backend_(backend), log_(quiet ? nullptr : &std::cout),
+      progress_(tty && d.output.progress && !quiet), heartbeat_(!tty && !quiet && d.output.heartbeat > 0) {}
 
 double RunSession::elapsed() const { return std::chrono::duration<double>(clock::now() - t0_).count(); }
 
 void RunSession::log_start(const std::string& what) const {
   if (log_)
-        *log_ << "nacre: " << d_.path << ": " << what << ", " << backend_.kokkos_name() << " with "
+    *log_ << "nacre: " << d_.path << ": " << what << ", " << backend_.kokkos_name() << " with "
           << backend_.concurrency() << " threads\n";
 }
 

@@ -58,11 +58,11 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
 /// are not a failure: stopped by a signal (a checkpoint to continue from) and complete (charts).
 class RunSession {
 public:
-    RunSession(const deck::Deck& d, bool quiet, bool tty, const Backend& backend = {});
+  RunSession(const deck::Deck& d, bool quiet, bool tty, const Backend& backend = {});
 
   [[nodiscard]] double elapsed() const;
   [[nodiscard]] std::ostream* log() const { return log_; }
-    /// \brief The run's backend (`--backend`; the default space unless asked).
+  /// \brief The run's backend (`--backend`; the default space unless asked).
   [[nodiscard]] const Backend& backend() const { return backend_; }
   [[nodiscard]] bool progress() const { return progress_; }    ///< a live line on stderr
   [[nodiscard]] bool heartbeat() const { return heartbeat_; }  ///< plain log lines within a long stretch
@@ -91,7 +91,7 @@ private:
   using clock = std::chrono::steady_clock;
   const deck::Deck& d_;
   const clock::time_point t0_;
-    const Backend backend_;  ///< every kernel of the run goes to this instance
+  const Backend backend_;  ///< every kernel of the run goes to this instance
   std::ostream* log_;
   bool progress_, heartbeat_;
   double last_line_ = 0;

@@ -297,7 +297,7 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
-    if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+  if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
   // `nacre --backend list`: the backends this build can run, the default first (no deck)
   for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
     if (std::string_view(argv[i]) == "--backend=list" ||
@@ -325,7 +325,7 @@ int main(int argc, char* argv[]) {
                "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
   cli.add_flag("--overwrite", opt.overwrite,
                "start afresh even where the output directory holds the checkpoint of an unfinished run");
-    cli.add_option("--backend", opt.backend,
+  cli.add_option("--backend", opt.backend,
                  "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
                  "default: Kokkos' default space. [dynamics] decks only in this version")
       ->check([](const std::string& b) {
@@ -356,7 +356,7 @@ int main(int argc, char* argv[]) {
     return 2;
   }
   if (!out_override.empty()) d.output.directory = out_override;
-    if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
+  if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
     std::cerr << "nacre: error: --backend " << opt.backend << ": the Monte Carlo solver runs on the default backend ("
               << Backend::names().front() << ") in this version; --backend applies to [dynamics] decks\n";
     return 2;
@@ -402,7 +402,7 @@ int main(int argc, char* argv[]) {
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
     if (critical) return print_critical_step(d, opt.quiet);
-        if (d.dynamics.enabled)
+    if (d.dynamics.enabled)
       return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
                               opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)});
     return run_deck(d, opt);

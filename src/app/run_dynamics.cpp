@@ -231,8 +231,8 @@ class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
       : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
-        backend_(session_.backend()), setup_(build(d)),
-        p_(dynamics_params(d, setup_.specimen.size())), crack_(setup_.specimen, setup_.interfaces, d.geometry),
+        backend_(session_.backend()), setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
+        crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
         progress_(session_.progress()) {}
 
@@ -433,7 +433,7 @@ private:
       c["thickness"] = p_.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
       c["bed_work_of_fracture"] = d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2;
     }
-        j["threads"] = backend_.concurrency();
+    j["threads"] = backend_.concurrency();
     j["execution_space"] = backend_.kokkos_name();
     j["backend"] = backend_.name();
     j["seconds"] = elapsed();
@@ -585,7 +585,7 @@ private:
   const DynRunOptions& opt_;
     RunSession session_;
   std::ostream* log_;
-    const Backend& backend_;  ///< every kernel of the run goes to this instance (the session's)
+  const Backend& backend_;  ///< every kernel of the run goes to this instance (the session's)
   const Setup setup_;
   dyn::Params p_;
   const fracture::CrackTracker crack_;

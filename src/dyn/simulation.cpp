@@ -51,7 +51,7 @@ struct Simulation::Impl {
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
   loading::Ramp ramp;
-    Backend backend;  ///< the instance the run's kernels go to (every launch: backend.visit)
+  Backend backend;  ///< the instance the run's kernels go to (every launch: backend.visit)
   long step = 0;
   /// time of step n: t_base + (n - step_base) dt, exactly n dt while dt never changed (the
   /// adaptive mode moves the base to the step of each change)
@@ -72,8 +72,8 @@ struct Simulation::Impl {
   int n_tiles = 0;
   /// BIE's step, chosen once (choose_bie_step) from the scheme and whether the shared J^-1 is
   /// fused over the tiles: one of bie_step's overloads, and what it needs besides the functors.
-  using BieStepFn = void (*)(const Backend&, const BieIntegrator<Mem>&, const InterfaceOp<Mem>&,
-                             const BieSolveOp<Mem>&, const BieStepPlan&);
+  using BieStepFn = void (*)(const Backend&, const BieIntegrator<Mem>&, const InterfaceOp<Mem>&, const BieSolveOp<Mem>&,
+                             const BieStepPlan&);
   BieStepFn bie_step_fn = nullptr;
   BieStepPlan bie_plan;
   [[nodiscard]] bool is_bie() const { return p.method == Method::bie; }
@@ -139,17 +139,17 @@ struct Simulation::Impl {
 
   /// The state at t = 0: driven elements at their prescribed values, BIE's a_0, the start's work
   /// books, and the step bound's reference.
-    void start() {
+  void start() {
     impose(0.0);
     // BIE carries a_n into the step (eq. 4.6; the split step M^-1 F instead): start from the
     // initial state's.
-        backend.visit([&](const auto& space) {
+    backend.visit([&](const auto& space) {
       if (is_bie())
         bie_accelerations(space, bie_integrator(), InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface,
                           p.bie_scheme == BieScheme::split);
-    // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
-    // kinetic energy is counted as work done by the machine, so the balance starts closed.
-          set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
+      // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
+      // kinetic energy is counted as work done by the machine, so the balance starts closed.
+      set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
                        m.n_elem);
       space.fence();
     });
@@ -174,7 +174,8 @@ struct Simulation::Impl {
     report.iface = -1, report.penetration = 0;
     if (where && report.element >= 0) {
       int i;
-      backend.visit([&](const auto& space) { dyn::controlling_interface(space, sb, report.element, i, report.penetration); });
+      backend.visit(
+          [&](const auto& space) { dyn::controlling_interface(space, sb, report.element, i, report.penetration); });
       report.iface = i >= 0 && i < m.n_mortar ? map.iface_geom[i] : -1;
     }
   }
@@ -211,7 +212,7 @@ struct Simulation::Impl {
   }
 
   /// Driven elements at their prescribed values for time t (no step taken).
-    void impose(double t) {
+  void impose(double t) {
     auto it = integrator();
     const loading::Opening o = ramp(t);
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
@@ -221,12 +222,12 @@ struct Simulation::Impl {
     });
   }
 
-    void step_once() {
+  void step_once() {
     const loading::Opening o = ramp(now(step + 1));
     auto it = integrator();
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(now(step));
-        step_fn(*this, it);
+    step_fn(*this, it);
     backend.visit([&](const auto& space) {  // irreversible damage: after every step
       update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);
     });
@@ -248,7 +249,7 @@ struct Simulation::Impl {
     ++report.dt_changes;
   }
 
-    void save_copy() {
+  void save_copy() {
     backend.visit([&](const auto& space) {
       Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
       Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
@@ -263,17 +264,17 @@ struct Simulation::Impl {
     });
   }
 
-    double sum_acc(AccCol col) {
+  double sum_acc(AccCol col) {
     return backend.visit([&](const auto& space) { return column_sum(space, ws, acc, col, m.n_elem); });
   }
   double sum_driven(DrivenCol col) {
     return backend.visit([&](const auto& space) { return column_sum(space, ws, dacc, col, m.n_driven); });
   }
   double kinetic(bool free_only, bool poison) {
-        const KineticEnergy<Mem> k{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison};
+    const KineticEnergy<Mem> k{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison};
     return backend.visit([&](const auto& space) { return element_sum(space, ws, k, m.n_elem); });
   }
-    double strain() {
+  double strain() {
     const StrainEnergy<Mem> se{m.type, m.K, u, m.nd};
     return backend.visit([&](const auto& space) { return element_sum(space, ws, se, m.n_elem); });
   }
@@ -380,8 +381,8 @@ struct Simulation::Impl {
   }
 };
 
-Simulation::Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                       const deck::Mortar& mortar)
+Simulation::Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s,
+                       const geometry::Interfaces& f, const deck::Mortar& mortar)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;
@@ -413,7 +414,7 @@ Simulation::Simulation(const Backend& backend, const Params& p, const geometry::
   I.choose_step();
   I.dt0 = p.dt;
   I.allocate();
-    I.backend = backend;
+  I.backend = backend;
   I.start();
 }
 
@@ -433,19 +434,19 @@ bool Simulation::advance(long n) {
   long done = 0;
   while (done < n) {
     const long chunk = std::min<long>(kCheckEvery, n - done);
-        I.save_copy();
+    I.save_copy();
     const long start = I.step;
     for (long k = 0; k < chunk; ++k) I.step_once();
     space.fence();
     if (const auto h = I.healthy(true); h != Impl::Health::ok) {
       if (h == Impl::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
-                I.load_copy();  // back to the chunk's start, which passed every check
+        I.load_copy();                         // back to the chunk's start, which passed every check
         I.step = start;
         space.fence();
         return false;
       }
       // replay the chunk step by step to stop at the last good step
-            I.load_copy();
+      I.load_copy();
       I.step = start;
       for (long k = 0; k < chunk; ++k) {
         I.save_copy();
@@ -478,7 +479,7 @@ void Simulation::set_initial_dt(double h) {
   I.change_dt(h);
   I.dt0 = h;
   I.report.dt_changes = 0;
-    I.start();  // a_0 and the start's books at the new step
+  I.start();  // a_0 and the start's books at the new step
 }
 StepReport Simulation::step_check() {
   impl_->read_bound(true);
@@ -496,13 +497,13 @@ double Simulation::reaction() const { return impl_->sum_driven(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
-    const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
   return I.backend.visit([&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar); });
 }
 
 double Simulation::max_penetration() const {
   auto& I = *impl_;
-    const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
   return I.backend.visit([&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); });
 }
 
@@ -558,7 +559,7 @@ void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>&
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
   const int nm = I.m.n_mortar;  // bed/head only
-    Kokkos::View<double*, Mem> dmg(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage"),
+  Kokkos::View<double*, Mem> dmg(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage"),
                                  std::max(nm, 1));
   Kokkos::View<int*, Mem> st(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
                              std::max(nm, 1));
@@ -699,7 +700,7 @@ double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->
 double Simulation::bie_residual() const {
   auto& I = *impl_;
   if (!I.is_bie() || I.step == 0) return 0.0;
-    return I.backend.visit([&](const auto& space) { return bie_last_residual(space, I.acc, I.m.drive, I.m.n_elem); });
+  return I.backend.visit([&](const auto& space) { return bie_last_residual(space, I.acc, I.m.drive, I.m.n_elem); });
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
 int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
@@ -716,7 +717,7 @@ double critical_step(const Backend& space, const Params& p, const geometry::Spec
     // a trial is stable when finite, below the kinetic bound and (balance_tolerance > 0) with
     // closed books; the growth and step-bound checks watch a run, not a trial
     q.growth_factor = 0, q.step_check = false, q.dt_mode = DtMode::fixed;
-        Simulation sim(space, q, s, f, mortar);
+    Simulation sim(space, q, s, f, mortar);
     return sim.advance(steps);
   };
   double h = p.dt;

@@ -19,7 +19,7 @@ inline constexpr int exit_unstable = 3;
 struct DynRunOptions {
   bool quiet = false, tty = false;
   bool extend = false;   ///< with restart: the deck's end_time may differ from the checkpoint's run
-    std::string restart;   ///< a checkpoint.h5, or ""
+  std::string restart;   ///< a checkpoint.h5, or ""
   Backend backend;       ///< where the kernels run (`--backend`; the default space unless asked)
 };
 

@@ -25,8 +25,7 @@ struct AppendSpace;
 template <class... Ts, class E>
 struct AppendSpace<std::variant<Ts...>, E> {
   // E joins when it reaches the default memory space and is not already listed
-  static constexpr bool kJoin =
-      Kokkos::SpaceAccessibility<E, MemSpace>::accessible && !(std::is_same_v<E, Ts> || ...);
+  static constexpr bool kJoin = Kokkos::SpaceAccessibility<E, MemSpace>::accessible && !(std::is_same_v<E, Ts> || ...);
   using type = std::conditional_t<kJoin, std::variant<Ts..., E>, std::variant<Ts...>>;
 };
 using Spaces0 = std::variant<Kokkos::DefaultExecutionSpace>;
@@ -54,10 +53,10 @@ public:
   template <class ExecutionSpace>
   explicit Backend(const ExecutionSpace& s) : space_(s) {}
 
-    /// \brief The backend named `name` (case-insensitive: "serial", "openmp", "cuda", ...; Kokkos
+  /// \brief The backend named `name` (case-insensitive: "serial", "openmp", "cuda", ...; Kokkos
   /// initialised); std::invalid_argument naming the enabled ones otherwise.
   static Backend parse(const std::string& name);
-    /// \brief Names of the backends this build can run (the default first), lower case (no
+  /// \brief Names of the backends this build can run (the default first), lower case (no
   /// initialised Kokkos needed).
   static std::vector<std::string> names();
 
@@ -65,11 +64,9 @@ public:
   [[nodiscard]] std::string name() const;
   [[nodiscard]] const char* kokkos_name() const;
   [[nodiscard]] int concurrency() const;
-    [[nodiscard]] bool is_default() const { return space_.index() == 0; }
+  [[nodiscard]] bool is_default() const { return space_.index() == 0; }
   /// \brief The instance when this is the default space (std::bad_variant_access otherwise).
-  [[nodiscard]] const Kokkos::DefaultExecutionSpace& default_instance() const {
-    return std::get<0>(space_);
-  }
+  [[nodiscard]] const Kokkos::DefaultExecutionSpace& default_instance() const { return std::get<0>(space_); }
   void fence() const;
 
   /// \brief f(instance) with the instance's own type: every launch of a run goes through here.

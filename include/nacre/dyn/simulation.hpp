@@ -128,7 +128,7 @@ class Simulation {
 public:
   /// \brief Builds the model and the state at t = 0 on `space` (the instance every later call of
   /// this run uses unless advance names another).
-    Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+  Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
              const deck::Mortar& mortar);
   /// \brief As above on `space` (an instance of the default execution space).
   Simulation(const Kokkos::DefaultExecutionSpace& space, const Params& p, const geometry::Specimen& s,
@@ -141,7 +141,7 @@ public:
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
 
-    /// \brief Advance n steps on the run's backend. Returns false (state left at the last finite
+  /// \brief Advance n steps on the run's backend. Returns false (state left at the last finite
   /// step) if a non-finite value or a blow-up (see is_unstable) appeared; `why()` then names step,
   /// time, quantity.
   bool advance(long n);
@@ -216,13 +216,13 @@ private:
 /// \brief Largest stable step of p.method for this specimen: bisection over dt, each trial a
 /// fresh Simulation advanced `steps` steps; stable = finite and kinetic energy below a bound from
 /// the work done (stated in docs/dynamics.md). Relative tolerance `rtol`. Every trial runs on `space`.
-[[nodiscard]] double critical_step(const Backend& space, const Params& p,
-                                   const geometry::Specimen& s, const geometry::Interfaces& f,
-                                   const deck::Mortar& mortar, long steps = 2000, double rtol = 0.01);
+[[nodiscard]] double critical_step(const Backend& space, const Params& p, const geometry::Specimen& s,
+                                   const geometry::Interfaces& f, const deck::Mortar& mortar, long steps = 2000,
+                                   double rtol = 0.01);
 /// \brief As above on a default-constructed instance (tests).
 [[nodiscard]] inline double critical_step(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                                           const deck::Mortar& mortar, long steps = 2000, double rtol = 0.01) {
-    return critical_step(Backend{}, p, s, f, mortar, steps, rtol);
+  return critical_step(Backend{}, p, s, f, mortar, steps, rtol);
 }
 
 /// \brief Rayleigh (alpha_d, beta_d) of Table 4.2 (MODEL.md §5 unit reading) for the nearest
