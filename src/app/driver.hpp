@@ -101,4 +101,9 @@ private:
 /// per combination of the values, resumable, then sweep.json, sweep.csv and sweep.png.
 int sweep_main(int argc, char* argv[]);
 
+/// \brief `nacre bench DECK [--backends a,b] [--steps N | --cycles N] [--repeat R] [-o OUT]`
+/// (argv[1] == "bench"; src/app/bench.cpp): the deck on each backend, timed by phase, with the
+/// backends' bounds and the agreement of their results; bench.csv, bench.json, bench.png.
+int bench_main(int argc, char* argv[]);
+
 }  // namespace nacre::app

@@ -297,7 +297,8 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
-  if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+    if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+  if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
   // `nacre --backend list`: the backends this build can run, the default first (no deck)
   for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
     if (std::string_view(argv[i]) == "--backend=list" ||

@@ -5,7 +5,10 @@
 #     every column but seconds (nacre promises the same bits on every host backend), and
 #     summary.json names the backend it ran on;
 #  3. an unknown backend is refused (exit 2) naming the enabled ones, and a Monte Carlo deck on a
-#     backend other than the default is refused (the rigid family runs on the default one).
+#     backend other than the default is refused (the rigid family runs on the default one);
+#  4. `nacre bench` on the small BE deck (every backend) and the small Monte Carlo deck: bench.csv,
+#     bench.json and bench.png written, every backend timed with its phases (the solver's regions),
+#     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2.
 #   run_backend_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -44,5 +47,30 @@ if [ "${#backends[@]}" -ge 2 ]; then
 else
   ok "one backend in this build: the Monte Carlo refusal of another needs two"
 fi
+if "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 2 -o bench_dyn > bench_dyn.txt 2>&1 &&
+   "$exe" bench "$src/tests/app/tiny.toml" --cycles 5 --repeat 2 -o bench_mc > bench_mc.txt 2>&1; then
+  python3 - "${backends[@]}" <<'PY' && ok "bench: files, phases, bounds and agreement on ${backends[*]}" || bad "bench outputs"
+import csv, json, os, sys
+backends = sys.argv[1:]
+for out, solver, phase in (("bench_dyn", "dynamics", "nacre::dyn::interface_force"), ("bench_mc", "monte-carlo", None)):
+    for f in ("bench.csv", "bench.json", "bench.png"):
+        assert os.path.getsize(f"{out}/{f}") > 0, (out, f)
+    j = json.load(open(f"{out}/bench.json"))
+    assert j["solver"] == solver and j["agreement"] == "bit-identical", (out, j["agreement"])
+    listed = backends if solver == "dynamics" else backends[:1]
+    assert list(j["backends"]) == listed, (out, list(j["backends"]))
+    for b, e in j["backends"].items():
+        assert e["triad_gb_per_s"] > 0 and e["fma_gflop_per_s"] > 0 and e["seconds_per_unit"] > 0, e
+        assert e["repeats_bit_identical"], b
+        assert e["phases"] and (phase is None or e["phases"][phase] > 0), e["phases"]
+        assert sum(v for k, v in e["phases"].items() if k != "nacre::dyn::advance") <= 1.5 * e["seconds_per_unit"] + 1e-4
+    rows = list(csv.DictReader(open(f"{out}/bench.csv")))
+    assert {r["backend"] for r in rows} == set(listed) and {r["repeat"] for r in rows} == {"0", "1"}
+PY
+else
+  bad "nacre bench failed: $(tail -3 bench_dyn.txt bench_mc.txt)"
+fi
+expect 2 "not one this build can run" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --backends no-such -o bench_bad
+
 [ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
 echo "all backend checks passed"

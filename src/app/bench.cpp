@@ -1,0 +1,381 @@
+// `nacre bench DECK [--backends a,b] [--steps N | --cycles N] [--repeat R] [-o OUT]`: the deck's
+// kernels on each backend of this build in one process, in turn and repeated, timed by phase,
+// against the backend's own bounds measured in the same run, with the agreement of the results.
+//
+// Why Kokkos' region callbacks: every phase of both solver families is already a labelled
+// Kokkos::Profiling::ScopedRegion ("nacre::dyn::interface_force", "nacre::mc::sweep_colour"...),
+// so the bench installs a push / pop region callback pair and reads the phases the solvers
+// declare, inclusive times per region name. Kokkos fences before each callback (a tool's default
+// requirement), so the times hold on an asynchronous device too.
+//
+// Writes OUT/bench.csv (one row per backend, repeat and phase), OUT/bench.json (the machine, the
+// bounds, the best repeat per backend, the agreement) and OUT/bench.png (nacre_bench_plot.py).
+#include "driver.hpp"
+
+#include <nacre/app/run_dynamics.hpp>
+#include <nacre/core/backend.hpp>
+#include <nacre/deck/deck.hpp>
+#include <nacre/dyn/simulation.hpp>
+#include <nacre/geometry/specimen.hpp>
+#include <nacre/io/atomic_file.hpp>
+#include <nacre/mc/solver.hpp>
+
+#include <CLI/CLI.hpp>
+#include <Kokkos_Core.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string_view>
+#include <string>
+#include <vector>
+
+namespace nacre::app {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+// ---- phase times from Kokkos' region callbacks (inclusive per region name)
+struct RegionClock {
+  std::vector<std::pair<std::string, clock_type::time_point>> stack;
+  std::map<std::string, double> seconds;
+};
+RegionClock* g_regions = nullptr;
+void push_region(const char* name) {
+  if (g_regions) g_regions->stack.emplace_back(name, clock_type::now());
+}
+void pop_region() {
+  if (!g_regions || g_regions->stack.empty()) return;
+  const auto& [name, t0] = g_regions->stack.back();
+  g_regions->seconds[name] += std::chrono::duration<double>(clock_type::now() - t0).count();
+  g_regions->stack.pop_back();
+}
+/// Times the regions entered while it lives.
+class RegionTimer {
+public:
+  RegionTimer() {
+    g_regions = &clock_;
+    Kokkos::Tools::Experimental::set_push_region_callback(push_region);
+    Kokkos::Tools::Experimental::set_pop_region_callback(pop_region);
+  }
+  ~RegionTimer() {
+    Kokkos::Tools::Experimental::set_push_region_callback(nullptr);
+    Kokkos::Tools::Experimental::set_pop_region_callback(nullptr);
+    g_regions = nullptr;
+  }
+  RegionTimer(const RegionTimer&) = delete;
+  RegionTimer& operator=(const RegionTimer&) = delete;
+  [[nodiscard]] const std::map<std::string, double>& seconds() const { return clock_.seconds; }
+
+private:
+  RegionClock clock_;
+};
+
+}  // namespace
+
+// (a named namespace: the device lambdas' enclosing functions need external linkage under nvcc)
+namespace bench_detail {
+struct Bounds {
+  double triad_gbs = 0;    ///< a = b + s c, best of 5, GB/s
+  double fma_gflops = 0;   ///< independent FMA chains per work item, best of 3, GFLOP/s
+};
+
+template <class ExecutionSpace>
+Bounds measure_bounds(const ExecutionSpace& space) {
+  using Mem = typename ExecutionSpace::memory_space;
+  Bounds b;
+  const int n = 1 << 23;  // 3 x 64 MiB: beyond the caches of the machines nacre meets
+  Kokkos::View<double*, Mem> x(Kokkos::view_alloc(space, "nacre::bench::x"), n), y(Kokkos::view_alloc(space, "nacre::bench::y"), n),
+      z(Kokkos::view_alloc(space, "nacre::bench::z"), n);
+  Kokkos::deep_copy(space, y, 1.0), Kokkos::deep_copy(space, z, 2.0);
+  for (int r = 0; r < 5; ++r) {
+    space.fence();
+    const auto t0 = clock_type::now();
+    Kokkos::parallel_for(
+        "nacre::bench::triad", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
+        KOKKOS_LAMBDA(const int i) { x(i) = y(i) + 3.0 * z(i); });
+    space.fence();
+    const double t = std::chrono::duration<double>(clock_type::now() - t0).count();
+    b.triad_gbs = std::max(b.triad_gbs, 3.0 * 8.0 * n / t / 1e9);
+  }
+  const int items = std::max(1, space.concurrency()) * 4096, iters = 4096;
+  for (int r = 0; r < 3; ++r) {
+    double sink = 0;
+    space.fence();
+    const auto t0 = clock_type::now();
+    Kokkos::parallel_reduce(
+        "nacre::bench::fma", Kokkos::RangePolicy<ExecutionSpace>(space, 0, items),
+        KOKKOS_LAMBDA(const int i, double& s) {
+          double a[8];
+          for (int k = 0; k < 8; ++k) a[k] = 1e-3 * (i + k);
+          for (int it = 0; it < iters; ++it)
+            for (int k = 0; k < 8; ++k) a[k] = a[k] * 0.999999 + 1e-7;
+          for (int k = 0; k < 8; ++k) s += a[k];
+        },
+        sink);
+    space.fence();
+    const double t = std::chrono::duration<double>(clock_type::now() - t0).count();
+    if (sink != 0) b.fma_gflops = std::max(b.fma_gflops, 2.0 * 8.0 * double(items) * iters / t / 1e9);
+  }
+  return b;
+}
+
+}  // namespace bench_detail
+
+namespace {
+using bench_detail::Bounds;
+using bench_detail::measure_bounds;
+
+std::string machine_cpu() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+// ---- one timed run of the deck on one backend
+struct Sample {
+  std::string backend;
+  int repeat = 0;
+  double seconds = 0;                  ///< the timed stretch
+  long units = 0;                      ///< time steps (dynamics) or Monte Carlo cycles
+  std::map<std::string, double> phase; ///< region -> seconds
+  std::vector<double> state;           ///< what the agreement check compares
+  double bytes_per_unit = 0;           ///< dynamics: Simulation::step_bytes
+};
+
+Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s,
+                       const geometry::Interfaces& f, long steps) {
+  dyn::Params p = dynamics_params(d, s.size());
+  const bool from_fraction = d.dynamics.dt <= 0;
+  if (from_fraction) p.dt = 1e-9;
+  dyn::Simulation sim(b, p, s, f, d.mortar);
+  if (from_fraction) sim.set_initial_dt(d.dynamics.dt_fraction * sim.step_report().estimate);
+  Sample r;
+  r.backend = b.name();
+  r.units = steps;
+  r.bytes_per_unit = static_cast<double>(sim.step_bytes());
+  {
+    RegionTimer timer;
+    const auto t0 = clock_type::now();
+    if (!sim.advance(steps)) throw std::runtime_error("the run stopped: " + sim.why());
+    b.fence();
+    r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
+    r.phase = timer.seconds();
+  }
+  for (const auto& [name, x] : sim.save_state()) r.state.insert(r.state.end(), x.begin(), x.end());
+  return r;
+}
+
+Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+                 long cycles) {
+  mc::Solver solver(b.default_instance(), d, s, f);
+  solver.set_load(d.load.initial_step);
+  Sample r;
+  r.backend = b.name();
+  r.units = cycles;
+  {
+    RegionTimer timer;
+    const auto t0 = clock_type::now();
+    for (long c = 0; c < cycles; ++c) solver.cycle();
+    b.fence();
+    r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
+    r.phase = timer.seconds();
+  }
+  std::vector<double> x, y, t;
+  solver.poses(x, y, t);
+  r.state = x, r.state.insert(r.state.end(), y.begin(), y.end()), r.state.insert(r.state.end(), t.begin(), t.end());
+  return r;
+}
+
+/// Largest |a - b| and whether every bit agrees.
+std::pair<double, bool> compare(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return {INFINITY, false};
+  double m = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return {m, std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0};
+}
+
+struct BenchOptions {
+  std::string deck, out = "bench", backends;
+  long steps = 200, cycles = 20;
+  int repeat = 3;
+};
+
+/// The files and the printed table: per backend its best repeat, phases, throughput, speed-up
+/// over the reference (serial where listed, else the first), fraction of its bounds, agreement.
+int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, bool dynamic,
+                const std::vector<Backend>& backends, const std::vector<Bounds>& bounds,
+                const std::vector<Sample>& samples) {
+  namespace fs = std::filesystem;
+  fs::create_directories(o.out);
+  const char* unit = dynamic ? "step" : "cycle";
+  std::ostringstream csv;
+  csv.precision(9);
+  csv << "backend,repeat,phase,seconds,seconds_per_" << unit << ",share\n";
+  for (const auto& s : samples) {
+    csv << s.backend << "," << s.repeat << ",total," << s.seconds << "," << s.seconds / s.units << ",1\n";
+    for (const auto& [name, t] : s.phase)
+      csv << s.backend << "," << s.repeat << "," << name << "," << t << "," << t / s.units << "," << t / s.seconds
+          << "\n";
+  }
+  io::write_file_atomic(fs::path(o.out) / "bench.csv", csv.str());
+
+  std::size_t ref = 0;
+  for (std::size_t k = 0; k < backends.size(); ++k)
+    if (backends[k].name() == "serial") ref = k;
+  auto best = [&](std::size_t k) {
+    const Sample* b = nullptr;
+    for (const auto& s : samples)
+      if (s.backend == backends[k].name() && (!b || s.seconds < b->seconds)) b = &s;
+    return b;
+  };
+  auto first = [&](std::size_t k) {
+    for (const auto& s : samples)
+      if (s.backend == backends[k].name()) return &s;
+    return static_cast<const Sample*>(nullptr);
+  };
+  nlohmann::ordered_json j;
+  j["deck"] = d.path;
+  j["solver"] = dynamic ? "dynamics" : "monte-carlo";
+  j["bricks"] = bricks;
+  j["unit"] = unit;
+  j["units_per_repeat"] = samples.front().units;
+  j["repeats"] = o.repeat;
+  j["machine"] = {{"cpu", machine_cpu()},
+                  {"kokkos_version", std::to_string(KOKKOS_VERSION / 10000) + "." +
+                                         std::to_string(KOKKOS_VERSION / 100 % 100) + "." +
+                                         std::to_string(KOKKOS_VERSION % 100)},
+                  {"gpu", nullptr}};
+  j["reference_backend"] = backends[ref].name();
+  std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", (std::string("s/") + unit).c_str(),
+              (std::string("brick-") + unit + "s/s").c_str(), "speed-up", "of triad", "of FMA", "agreement");
+  const Sample* r0 = first(0);
+  for (std::size_t k = 0; k < backends.size(); ++k) {
+    const Sample* b = best(k);
+    const Sample* f = first(k);
+    const double per = b->seconds / b->units, thr = double(bricks) * b->units / b->seconds;
+    const double speedup = best(ref)->seconds / b->seconds;
+    // fraction of the bandwidth bound: the bytes a step must move (Simulation::step_bytes) at the
+    // backend's triad rate; of the FMA bound: not estimated (nacre does not count its flops)
+    const double of_triad = dynamic && bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    const auto [diff, same] = compare(r0->state, f->state);
+    bool repeats_same = true;
+    for (const auto& s : samples)
+      if (s.backend == backends[k].name()) repeats_same = repeats_same && compare(f->state, s.state).second;
+    auto& e = j["backends"][backends[k].name()];
+    e["execution_space"] = backends[k].kokkos_name();
+    e["threads"] = backends[k].concurrency();
+    e["best_seconds"] = b->seconds;
+    e["seconds_per_unit"] = per;
+    e["brick_units_per_second"] = thr;
+    e["speedup_over_reference"] = speedup;
+    e["triad_gb_per_s"] = bounds[k].triad_gbs;
+    e["fma_gflop_per_s"] = bounds[k].fma_gflops;
+    e["fraction_of_triad"] = std::isnan(of_triad) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(of_triad);
+    e["bytes_per_unit"] = b->bytes_per_unit;
+    e["max_difference_to_" + backends[0].name()] = diff;
+    e["bit_identical_to_" + backends[0].name()] = same;
+    e["repeats_bit_identical"] = repeats_same;
+    for (const auto& [name, t] : b->phase) e["phases"][name] = t / b->units;
+    std::printf("%-8s %8d %14.6g %16.4g %9.3f %9.1f%% %10s  %s (max |diff| %.3g)%s\n", backends[k].name().c_str(),
+                backends[k].concurrency(), per, thr, speedup, 100 * of_triad, "-",
+                k == 0 ? "reference" : (same ? "bit-identical" : "DIFFERS"), diff,
+                repeats_same ? "" : "; repeats differ");
+  }
+  bool all_same = true;
+  for (std::size_t k = 0; k < backends.size(); ++k)
+    all_same = all_same && j["backends"][backends[k].name()]["bit_identical_to_" + backends[0].name()].get<bool>() &&
+               j["backends"][backends[k].name()]["repeats_bit_identical"].get<bool>();
+  j["agreement"] = all_same ? "bit-identical" : "differs";
+  io::write_file_atomic(fs::path(o.out) / "bench.json", j.dump(2) + "\n");
+  std::cout << "nacre bench: results in " << o.out << "/ (bench.csv, bench.json, bench.png)\n";
+  if (!run_charts("nacre_bench_plot.py", o.out, &std::cout)) return 1;
+  // nacre promises the same bits on every host backend and every repeat: anything else is a failure
+  if (!all_same) {
+    std::cerr << "nacre bench: error: the backends' results differ (bench.json \"agreement\")\n";
+    return 1;
+  }
+  return 0;
+}
+
+int bench(const BenchOptions& o) {
+  const deck::Deck d = deck::parse_deck_file(o.deck);
+  const bool dynamic = d.dynamics.enabled;
+  std::vector<Backend> backends;
+  for (const auto& name : o.backends.empty() ? Backend::names() : std::vector<std::string>{})
+    backends.push_back(Backend::parse(name));
+  if (!o.backends.empty()) {
+    std::stringstream in(o.backends);
+    for (std::string name; std::getline(in, name, ',');) backends.push_back(Backend::parse(name));
+  }
+  if (!dynamic && std::any_of(backends.begin(), backends.end(), [](const Backend& b) { return !b.is_default(); })) {
+    std::cerr << "nacre bench: the Monte Carlo solver runs on the default backend only in this version: benching "
+              << Backend::names().front() << " alone\n";
+    backends = {Backend{}};
+  }
+  auto specimen = geometry::build_specimen(d.geometry);
+  const auto interfaces = geometry::find_interfaces(specimen, d.geometry);
+  const long units = dynamic ? o.steps : o.cycles;
+  std::cout << "nacre bench: " << o.deck << ": " << specimen.size() << " bricks, "
+            << (dynamic ? "dynamics, " : "Monte Carlo, ") << units << (dynamic ? " steps" : " cycles") << " x "
+            << o.repeat << " repeats on";
+  for (const auto& b : backends) std::cout << " " << b.name() << " (" << b.concurrency() << " threads)";
+  std::cout << "\n";
+
+  std::vector<Bounds> bounds;
+  for (const auto& b : backends) bounds.push_back(b.visit([](const auto& s) { return measure_bounds(s); }));
+  std::vector<Sample> samples;
+  for (int rep = 0; rep < o.repeat; ++rep)
+    for (const auto& b : backends) {
+      samples.push_back(dynamic ? run_dynamics_on(b, d, specimen, interfaces, units)
+                                : run_mc_on(b, d, specimen, interfaces, units));
+      samples.back().repeat = rep;
+    }
+  return write_bench(o, d, specimen.size(), dynamic, backends, bounds, samples);
+}
+
+}  // namespace
+
+int bench_main(int argc, char* argv[]) {
+  std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
+  for (int i = 2; i < argc; ++i)
+    (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
+  CLI::App cli{"nacre bench: the deck's kernels on each backend of this build, timed by phase, with the "
+               "backends' bounds and the agreement of their results"};
+  BenchOptions o;
+  cli.add_option("deck", o.deck, "TOML input deck")->required()->check(CLI::ExistingFile);
+  cli.add_option("--backends", o.backends, "comma-separated backends (default: all of `nacre --backend list`)");
+  cli.add_option("--steps", o.steps, "time steps per repeat (dynamic decks)")->check(CLI::Range(1L, 100000000L));
+  cli.add_option("--cycles", o.cycles, "Monte Carlo cycles per repeat at the first load step (rigid decks)")
+      ->check(CLI::Range(1L, 100000000L));
+  cli.add_option("--repeat", o.repeat, "repeats (each backend in turn)")->check(CLI::Range(1, 1000));
+  cli.add_option("-o,--output", o.out, "output directory (bench.csv, bench.json, bench.png)");
+  if (const int rc = parse_command_line(cli, app_args, [] {}); rc >= 0) return rc;
+  kokkos_args.push_back(nullptr);
+  int kargc = static_cast<int>(kokkos_args.size()) - 1;
+  Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
+  try {
+    return bench(o);
+  } catch (const deck::DeckError& e) {
+    std::cerr << "nacre bench: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "nacre bench: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "nacre bench: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace nacre::app

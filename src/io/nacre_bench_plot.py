@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""The chart of a `nacre bench` run: per backend, the time per step (or cycle) split into the
+solver's phases (its labelled Kokkos regions, the innermost ones that partition the timed
+stretch), and the throughput against the backend's triad bound where the solver states the bytes
+a step must move. Reads BENCH_DIR/bench.json, writes BENCH_DIR/bench.png.
+
+  nacre_bench_plot.py BENCH_DIR [--quiet]
+"""
+import json
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from nacre_plot import save_png  # noqa: E402
+
+
+def leaf_phases(phases):
+    """Regions that hold no other listed region (by name prefix of the solver's hierarchy is not
+    available, so: drop the outermost driver regions that contain the others)."""
+    drop = {"nacre::dyn::advance", "nacre::mc::cycle"}
+    return {k: v for k, v in phases.items() if k not in drop}
+
+
+def main():
+    d = sys.argv[1]
+    quiet = "--quiet" in sys.argv
+    j = json.load(open(os.path.join(d, "bench.json")))
+    names = list(j["backends"].keys())
+    unit = j["unit"]
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    phases = sorted({p for b in names for p in leaf_phases(j["backends"][b].get("phases", {}))})
+    bottom = [0.0] * len(names)
+    for p in phases:
+        v = [1e3 * j["backends"][b].get("phases", {}).get(p, 0.0) for b in names]
+        ax.bar(names, v, bottom=bottom, label=p.split("::")[-1])
+        bottom = [x + y for x, y in zip(bottom, v)]
+    tot = [1e3 * j["backends"][b]["seconds_per_unit"] for b in names]
+    ax.plot(names, tot, "k_", markersize=30, label="total")
+    ax.set_ylabel(f"ms per {unit}")
+    ax.set_title(f"{os.path.basename(j['deck'])}: {j['bricks']} bricks, phases by backend")
+    ax.legend(fontsize=7, ncol=2)
+    thr = [j["backends"][b]["brick_units_per_second"] for b in names]
+    ax2.bar(names, thr, color="tab:blue")
+    for i, b in enumerate(names):
+        e = j["backends"][b]
+        f = e.get("fraction_of_triad")
+        note = f"x{e['speedup_over_reference']:.2f}" + (f", {100 * f:.0f}% of triad" if f else "")
+        note += "\n" + ("bit-identical" if e.get("bit_identical_to_" + names[0], False) else "DIFFERS")
+        ax2.text(i, thr[i], note, ha="center", va="bottom", fontsize=8)
+    ax2.set_ylabel(f"brick-{unit}s per second")
+    ax2.set_title(f"throughput; speed-up over {j['reference_backend']}; agreement {j['agreement']}")
+    fig.suptitle(f"{j['machine']['cpu']}, Kokkos {j['machine']['kokkos_version']}", fontsize=9)
+    fig.tight_layout()
+    save_png(fig, os.path.join(d, "bench.png"), dpi=110)
+    if not quiet:
+        print(f"nacre_bench_plot: {os.path.join(d, 'bench.png')}")
+
+
+if __name__ == "__main__":
+    main()
