@@ -6,7 +6,10 @@
 #     summary.json names the backend it ran on;
 #  3. an unknown backend is refused (exit 2) naming the enabled ones, and a Monte Carlo deck on a
 #     backend other than the default is refused (the rigid family runs on the default one);
-#  4. `nacre bench` on the small BE deck (every backend) and the small Monte Carlo deck: bench.csv,
+#  4. a run stopped half-way on the first backend, continued on the last one (--restart --extend)
+#     gives the direct run's series (every column but seconds): the checkpoint moves between
+#     backends of one build, and records the one it was written on;
+#  5. `nacre bench` on the small BE deck (every backend) and the small Monte Carlo deck: bench.csv,
 #     bench.json and bench.png written, every backend timed with its phases (the solver's regions),
 #     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2.
 #   run_backend_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
@@ -41,6 +44,21 @@ for b in backends[1:]:
     assert tables[b] == ref, f"{b} differs from {backends[0]}"
 PY
 done
+sed 's/^end_time = 6e-6/end_time = 3e-6/' "$src/tests/app/tiny_dynamic.toml" > half.toml
+first="${backends[0]}"; last="${backends[${#backends[@]}-1]}"
+if "$exe" half.toml --backend "$first" -o moved -q > half.txt 2>&1 &&
+   "$exe" "$src/tests/app/tiny_dynamic.toml" --backend "$last" -o moved --restart moved/checkpoint.h5 --extend > moved.txt 2>&1; then
+  python3 - "$first" "$last" <<'PY' && ok "restart moved from $first to $last: the direct run's series" || bad "restart across backends"
+import csv, json, sys
+first, last = sys.argv[1:]
+strip = lambda f: [{k: v for k, v in r.items() if k != "seconds"} for r in csv.DictReader(open(f))]
+assert strip("moved/series.csv") == strip(f"tiny_dynamic_{first}/series.csv")
+assert json.load(open("moved/summary.json"))["backend"] == last
+PY
+  grep -q "restarting from" moved.txt || bad "no restart line in the log"
+else
+  bad "half run or restart failed: $(tail -3 half.txt moved.txt)"
+fi
 expect 2 "not a backend of this build; expected one of" "$exe" "$src/tests/app/tiny_dynamic.toml" --backend no-such-backend -o unknown
 if [ "${#backends[@]}" -ge 2 ]; then
   expect 2 "Monte Carlo solver runs on the default backend" "$exe" "$src/tests/app/tiny.toml" --backend "${backends[1]}" -o mc_other
