@@ -84,8 +84,8 @@ private:
 // (a named namespace: the device lambdas' enclosing functions need external linkage under nvcc)
 namespace bench_detail {
 struct Bounds {
-  double triad_gbs = 0;    ///< a = b + s c, best of 5, GB/s
-  double fma_gflops = 0;   ///< independent FMA chains per work item, best of 3, GFLOP/s
+  double triad_gbs = 0;   ///< a = b + s c, best of 5, GB/s
+  double fma_gflops = 0;  ///< independent FMA chains per work item, best of 3, GFLOP/s
 };
 
 template <class ExecutionSpace>
@@ -93,8 +93,8 @@ Bounds measure_bounds(const ExecutionSpace& space) {
   using Mem = typename ExecutionSpace::memory_space;
   Bounds b;
   const int n = 1 << 23;  // 3 x 64 MiB: beyond the caches of the machines nacre meets
-  Kokkos::View<double*, Mem> x(Kokkos::view_alloc(space, "nacre::bench::x"), n), y(Kokkos::view_alloc(space, "nacre::bench::y"), n),
-      z(Kokkos::view_alloc(space, "nacre::bench::z"), n);
+  Kokkos::View<double*, Mem> x(Kokkos::view_alloc(space, "nacre::bench::x"), n),
+      y(Kokkos::view_alloc(space, "nacre::bench::y"), n), z(Kokkos::view_alloc(space, "nacre::bench::z"), n);
   Kokkos::deep_copy(space, y, 1.0), Kokkos::deep_copy(space, z, 2.0);
   for (int r = 0; r < 5; ++r) {
     space.fence();
@@ -146,11 +146,11 @@ std::string machine_cpu() {
 struct Sample {
   std::string backend;
   int repeat = 0;
-  double seconds = 0;                  ///< the timed stretch
-  long units = 0;                      ///< time steps (dynamics) or Monte Carlo cycles
-  std::map<std::string, double> phase; ///< region -> seconds
-  std::vector<double> state;           ///< what the agreement check compares
-  double bytes_per_unit = 0;           ///< dynamics: Simulation::step_bytes
+  double seconds = 0;                   ///< the timed stretch
+  long units = 0;                       ///< time steps (dynamics) or Monte Carlo cycles
+  std::map<std::string, double> phase;  ///< region -> seconds
+  std::vector<double> state;            ///< what the agreement check compares
+  double bytes_per_unit = 0;            ///< dynamics: Simulation::step_bytes
 };
 
 Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s,
@@ -251,11 +251,11 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
   j["unit"] = unit;
   j["units_per_repeat"] = samples.front().units;
   j["repeats"] = o.repeat;
-  j["machine"] = {{"cpu", machine_cpu()},
-                  {"kokkos_version", std::to_string(KOKKOS_VERSION / 10000) + "." +
-                                         std::to_string(KOKKOS_VERSION / 100 % 100) + "." +
-                                         std::to_string(KOKKOS_VERSION % 100)},
-                  {"gpu", nullptr}};
+  j["machine"] = {
+      {"cpu", machine_cpu()},
+      {"kokkos_version", std::to_string(KOKKOS_VERSION / 10000) + "." + std::to_string(KOKKOS_VERSION / 100 % 100) +
+                             "." + std::to_string(KOKKOS_VERSION % 100)},
+      {"gpu", nullptr}};
   j["reference_backend"] = backends[ref].name();
   std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", (std::string("s/") + unit).c_str(),
               (std::string("brick-") + unit + "s/s").c_str(), "speed-up", "of triad", "of FMA", "agreement");
@@ -267,7 +267,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     const double speedup = best(ref)->seconds / b->seconds;
     // fraction of the bandwidth bound: the bytes a step must move (Simulation::step_bytes) at the
     // backend's triad rate; of the FMA bound: not estimated (nacre does not count its flops)
-    const double of_triad = dynamic && bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    const double of_triad =
+        dynamic && bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
     const auto [diff, same] = compare(r0->state, f->state);
     bool repeats_same = true;
     for (const auto& s : samples)
@@ -350,8 +351,9 @@ int bench_main(int argc, char* argv[]) {
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 2; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
-  CLI::App cli{"nacre bench: the deck's kernels on each backend of this build, timed by phase, with the "
-               "backends' bounds and the agreement of their results"};
+  CLI::App cli{
+      "nacre bench: the deck's kernels on each backend of this build, timed by phase, with the "
+      "backends' bounds and the agreement of their results"};
   BenchOptions o;
   cli.add_option("deck", o.deck, "TOML input deck")->required()->check(CLI::ExistingFile);
   cli.add_option("--backends", o.backends, "comma-separated backends (default: all of `nacre --backend list`)");

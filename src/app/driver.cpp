@@ -169,7 +169,7 @@ bool run_charts(const std::string& script_name, const std::filesystem::path& dir
   }
   if (log)
     *log << "nacre: charts: "
-                  << (script_name == "nacre_sweep_plot.py"   ? "sweep.csv, sweep.png"
+         << (script_name == "nacre_sweep_plot.py"   ? "sweep.csv, sweep.png"
              : script_name == "nacre_bench_plot.py" ? "bench.png"
                                                     : "energy_force.png, crack.png, r_curve.png")
          << "\n";

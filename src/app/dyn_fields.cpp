@@ -134,7 +134,7 @@ io::Checkpoint to_named(const DynCheckpoint& c, const deck::Deck& d) {
   k.fingerprint = fingerprint(text);
   k.strings["deck"] = text;
   k.strings["kind"] = "dynamics";
-    k.strings["method"] = c.method;
+  k.strings["method"] = c.method;
   if (!c.backend.empty()) k.strings["backend"] = c.backend;
   k.integers["step"] = c.step;
   k.reals["time"] = c.time;
@@ -150,7 +150,7 @@ DynCheckpoint read_dyn_checkpoint(const std::filesystem::path& path, const deck:
     throw io::CheckpointError(path.string() + ": not a checkpoint of a dynamic run (a Monte Carlo checkpoint?)");
   check_fingerprint(k, d, path.string());
   DynCheckpoint c;
-    c.method = k.string("method");
+  c.method = k.string("method");
   if (k.strings.count("backend")) c.backend = k.string("backend");
   c.step = static_cast<long>(k.integer("step"));
   c.time = k.real("time");

@@ -40,7 +40,7 @@ struct SeriesRow {
 struct DynCheckpoint {
   long step = 0;
   double time = 0, dt = 0, end_time = 0;
-    std::string method;
+  std::string method;
   /// The backend the run was on (`--backend`): recorded, not compared. A restart may take another
   /// backend of the same build (they give the same bits); another build's default space changes
   /// the fingerprint (nacre.backend), which refuses the restart by name.

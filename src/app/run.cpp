@@ -298,15 +298,15 @@ int main(int argc, char* argv[]) {
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
     if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
-  if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
-  // `nacre --backend list`: the backends this build can run, the default first (no deck)
-  for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
-    if (std::string_view(argv[i]) == "--backend=list" ||
-        (std::string_view(argv[i]) == "--backend" && std::string_view(argv[i + 1]) == "list")) {
-      const auto n = Backend::names();
-      for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
-      return 0;
-    }
+    if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
+    // `nacre --backend list`: the backends this build can run, the default first (no deck)
+    for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
+      if (std::string_view(argv[i]) == "--backend=list" ||
+          (std::string_view(argv[i]) == "--backend" && std::string_view(argv[i + 1]) == "list")) {
+        const auto n = Backend::names();
+        for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
+        return 0;
+      }
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);

@@ -292,7 +292,7 @@ private:
     if (sim_->steps() != cp_.step)
       throw std::runtime_error(restart + ": restored state is at step " + std::to_string(sim_->steps()) +
                                ", the checkpoint says " + std::to_string(cp_.step));
-        if (log_)
+    if (log_)
       *log_ << "nacre: restarting from " << restart << " at step " << cp_.step << ", t = " << cp_.time << " s"
             << (!cp_.backend.empty() && cp_.backend != backend_.name()
                     ? " (written on " + cp_.backend + ", continued on " + backend_.name() + ": the same bits)"
@@ -385,7 +385,7 @@ private:
     c.time = sim_->time();
     c.dt = p_.dt;
     c.end_time = D_.end_time;
-        c.method = method_name(p_.method);
+    c.method = method_name(p_.method);
     c.backend = backend_.name();
     c.state = sim_->save_state();
     return c;
