@@ -4,7 +4,10 @@
 // the cohesive law are checked the same way. (Which backends ran is printed by the first test.)
 #include "backends.hpp"
 
+#include <nacre/aes/aes128.hpp>
 #include <nacre/cohesive/segment.hpp>
+#include <nacre/core/backend.hpp>
+#include <nacre/rng/uniform_source.hpp>
 #include <nacre/loading/pattern.hpp>
 #include <nacre/mc/kernels.hpp>
 #include <nacre/mc/model.hpp>
@@ -196,5 +199,62 @@ TEMPLATE_LIST_TEST_CASE("the cohesive law and the load pattern run inside kernel
     const kinematics::Pose p = loading::rigid_pose(lp, i % 2 ? 1 : -1, 20.0 * i / n, 0.0, g);
     CHECK(h(i, 5) == p.y);
     CHECK(h(i, 6) == p.t);
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every host backend", "[rng][backends]",
+                        test::HostBackends) {
+  const std::size_t n = 3001;
+  Kokkos::View<std::uint64_t*, MemSpace> id_view("nacre::test::ids", n);
+  const rng::StreamIds<> ids = id_view;
+  rng::UniformTable<> mine("nacre::test::u", n), ref("nacre::test::u_ref", n);
+  auto hid = Kokkos::create_mirror_view(id_view);
+  for (std::size_t i = 0; i < n; ++i) hid(i) = 7919 * i + 3;  // any stream ids, not contiguous
+  Kokkos::deep_copy(id_view, hid);
+  for (const std::uint64_t draw : {0ull, 1ull, 123456789ull}) {
+    rng::philox_fill(TestType{}, 42, draw, ids, mine);
+    TestType{}.fence();
+    rng::PhiloxSource(42).fill(draw, ids, ref);  // the source the Monte Carlo sweep uses
+    Kokkos::fence();
+    auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, mine);
+    auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, ref);
+    INFO(TestType::name() << ", draw " << draw);
+    CHECK(std::memcmp(a.data(), b.data(), a.span() * sizeof(double)) == 0);
+    for (std::size_t i = 0; i < n; ++i) {  // and each value is the device function's, in (0, 1)
+      double r[4];
+      rng::philox_uniforms(42, hid(i), draw, r);
+      for (int k = 0; k < 4; ++k) REQUIRE((a(i, k) == r[k] && r[k] >= 0 && r[k] < 1));
+    }
+  }
+}
+
+TEST_CASE("AES-128 encrypts to the same bytes on every backend of the build", "[aes][backends]") {
+  // FIPS-197 Appendix C.1, then 4099 random blocks (several threads' chunks and a padded tail)
+    // on each backend chosen at run time (nacre::Backend): the same bytes as the default space's
+  aes::Key128 key{};
+  for (int i = 0; i < 16; ++i) key.bytes[i] = static_cast<std::uint8_t>(i);
+  const std::size_t nb = 4099;
+  Kokkos::View<std::uint8_t*, MemSpace> in("nacre::test::aes_in", 16 * nb), ref("nacre::test::aes_ref", 16 * nb),
+      out("nacre::test::aes_out", 16 * nb);
+  auto hin = Kokkos::create_mirror_view(in);
+  const std::uint8_t c1[16] = {0x00, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77,
+                               0x88, 0x99, 0xaa, 0xbb, 0xcc, 0xdd, 0xee, 0xff};
+  const std::uint8_t c1_ct[16] = {0x69, 0xc4, 0xe0, 0xd8, 0x6a, 0x7b, 0x04, 0x30,
+                                  0xd8, 0xcd, 0xb7, 0x80, 0x70, 0xb4, 0xc5, 0x5a};
+  std::mt19937 gen(5);
+  for (std::size_t i = 0; i < 16 * nb; ++i) hin(i) = i < 16 ? c1[i] : static_cast<std::uint8_t>(gen());
+  Kokkos::deep_copy(in, hin);
+  aes::aes128_ecb_encrypt(Backend{}, key, in, ref);
+  Kokkos::fence();
+  const auto href = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, ref);
+  CHECK(std::memcmp(href.data(), c1_ct, 16) == 0);
+  for (const auto& name : Backend::names()) {
+    const Backend b = Backend::parse(name);
+    Kokkos::deep_copy(out, std::uint8_t(0));
+    aes::aes128_ecb_encrypt(b, key, in, out);
+    b.fence();
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, out);
+    INFO("backend " << name);
+    CHECK(std::memcmp(h.data(), href.data(), h.span()) == 0);
   }
 }

@@ -132,6 +132,11 @@ void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, Mem
   aes128_ecb_encrypt(ExecSpace(), key, in, out);
 }
 
+void aes128_ecb_encrypt(const Backend& backend, const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
+                        Kokkos::View<std::uint8_t*, MemSpace> out) {
+  backend.visit([&](const auto& space) { aes128_ecb_encrypt(space, key, in, out); });
+}
+
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<std::uint8_t*, MemSpace> inout) {
   aes128_ecb_encrypt(ExecSpace(), key, inout, inout);
 }

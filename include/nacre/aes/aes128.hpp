@@ -9,6 +9,7 @@
 /// is read and written contiguously. No branch and no memory address depends on the key or the
 /// data, key expansion included (checked under valgrind by tests/aes/ct_check.cpp).
 #include <nacre/aes/bitsliced.hpp>
+#include <nacre/core/backend.hpp>
 #include <nacre/core/types.hpp>
 
 #include <cstdint>
@@ -29,6 +30,11 @@ void aes128_ecb_encrypt(const ExecSpace& space, const Key128& key,
 
 /// \brief aes128_ecb_encrypt on the default execution space instance.
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
+                        Kokkos::View<std::uint8_t*, MemSpace> out);
+
+/// \brief aes128_ecb_encrypt on a backend chosen at run time (core/backend.hpp: every backend of
+/// the build that reaches the default memory space).
+void aes128_ecb_encrypt(const Backend& backend, const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
                         Kokkos::View<std::uint8_t*, MemSpace> out);
 
 /// \brief In-place AES-128-ECB on the default execution space instance.

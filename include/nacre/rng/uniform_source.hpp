@@ -70,6 +70,21 @@ public:
 /// (The generators a deck can name, Philox and the AES ones, are listed by rng/registry.hpp: this
 /// header knows no generator family but its own.)
 
+/// \brief u(i, 0..3) = the Philox uniforms of stream streams(i) at draw `draw` under key `seed`,
+/// on `space` (PhiloxSource::fill; any execution space that reaches the views).
+template <class ExecutionSpace>
+void philox_fill(const ExecutionSpace& space, std::uint64_t seed, std::uint64_t draw, StreamIds<> streams,
+                 UniformTable<> u) {
+  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemSpace>::accessible);
+  Kokkos::parallel_for(
+      "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecutionSpace>(space, 0, streams.extent(0)),
+      KOKKOS_LAMBDA(const std::size_t i) {
+        double r[4];
+        philox_uniforms(seed, streams(i), draw, r);
+        for (int k = 0; k < 4; ++k) u(i, k) = r[k];
+      });
+}
+
 /// \brief Philox4x32-10: key = seed, counter = (stream, 2*draw + half); each 128-bit block gives
 /// two doubles from its two 64-bit halves.
 class PhiloxSource final : public UniformSource {
