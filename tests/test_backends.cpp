@@ -230,7 +230,7 @@ TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every host back
 
 TEST_CASE("AES-128 encrypts to the same bytes on every backend of the build", "[aes][backends]") {
   // FIPS-197 Appendix C.1, then 4099 random blocks (several threads' chunks and a padded tail)
-    // on each backend chosen at run time (nacre::Backend): the same bytes as the default space's
+  // on each backend chosen at run time (nacre::Backend): the same bytes as the default space's
   aes::Key128 key{};
   for (int i = 0; i < 16; ++i) key.bytes[i] = static_cast<std::uint8_t>(i);
   const std::size_t nb = 4099;
