@@ -152,21 +152,20 @@ struct BieIntegrator {
   /// JinvVelocityFirst (beta_d != 0): y_v = Jv [g~_p; g_v], y_p = g~_p + h/2 y_v.
   Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace> Jv;
 
-  /// g~_p = g_p - jq g_v on the dofs with mass (the block apply's input); nothing when jq = 0.
+  /// The J^-1 apply's input: g~_p = g_p - h/2 g_v (velocity-first) or g_p - jq g_v (block form;
+  /// nothing when jq = 0) on the dofs with mass; the dense form takes g as it is.
   template <class Jinv>
   KOKKOS_INLINE_FUNCTION void tile_block_scale(int t, double (*KOKKOS_RESTRICT g)[kTile]) const {
-    const int nd = ex.nd;
-    if constexpr (std::is_same_v<Jinv, JinvVelocityFirst>) {  // g~_p = g_p - h/2 g_v
-      const double hh = 0.5 * ex.h;
+    if constexpr (!std::is_same_v<Jinv, JinvDense>) {
+      const int nd = ex.nd;
+      const double c = std::is_same_v<Jinv, JinvVelocityFirst> ? 0.5 * ex.h : jq;
+      if (c == 0.0) return;  // (the block form without damping: jq = 0)
       for (int j = 0; j < nd; ++j)
         if (ex.mass(t, j) > 0)
-          for (int b = 0; b < kTile; ++b) g[j][b] -= hh * g[nd + j][b];
-      return;
+          for (int b = 0; b < kTile; ++b) g[j][b] -= c * g[nd + j][b];
+    } else {
+      (void)t, (void)g;
     }
-    if (!std::is_same_v<Jinv, JinvBlockLower> || jq == 0.0) return;
-    for (int j = 0; j < nd; ++j)
-      if (ex.mass(t, j) > 0)
-        for (int b = 0; b < kTile; ++b) g[j][b] -= jq * g[nd + j][b];
   }
 
   /// y[q] = sum_{j < n} A(t, i0 + q, j) g[j] for the rows [i0, i0 + nq) of a per-type matrix:
