@@ -1,6 +1,7 @@
 // The dynamics kernels, written once, run on every enabled host backend (tests/backends.hpp) and
 // must leave the same bits as on the default execution space: a notched wall driven to rupture,
-// velocity Verlet (BE) per element and over the tiles, and BIE's iterated and split steps fused
+// velocity Verlet (BE) per element with the dense (M + h/2 C)^-1 and over the tiles with its
+// diagonal, and BIE's iterated and split steps fused
 // over the tiles and unfused (residual, shared_gemm solve, update), each step's phases launched
 // on the backend's instance as dyn::Simulation launches them on the run's. On every backend the
 // per-element and tiled walks, and the fused and unfused BIE steps, also agree bit for bit.
@@ -76,8 +77,13 @@ State run(const ExecutionSpace& space, dyn::Params p, const Setup& st, Walk walk
   for (long n = 1; n <= steps; ++n) {
     at(n);
     switch (walk) {
-      case Walk::per_element: dyn::verlet_step(space, dyn::ElementTiles<false>{}, it, op, ne, m.n_iface); break;
-      case Walk::tiled: dyn::verlet_step(space, dyn::ElementTiles<true>{}, it, op, ne, m.n_iface); break;
+            case Walk::per_element:  // the dense (M + h/2 C)^-1 product per element
+        dyn::verlet_step(space, dyn::ElementTiles<false>{}, dyn::AinvDense{}, it, op, ne, m.n_iface);
+        break;
+      case Walk::tiled:  // over the tiles, its exact zeros skipped (C = alpha M: the inverse is diagonal)
+        REQUIRE(m.ainv_diagonal);
+        dyn::verlet_step(space, dyn::ElementTiles<true>{}, dyn::AinvDiagonal{}, it, op, ne, m.n_iface);
+        break;
       case Walk::bie_unfused:
         if (split) dyn::bie_step(space, dyn::BieSplitScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
         else dyn::bie_step(space, dyn::BieIterateScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);

@@ -137,7 +137,7 @@ struct BieSplitStartTileTag {};
 struct BieSplitFinalTileTag {};
 
 /// \brief Per-element kernels of one BIE step. Driven elements use the explicit integrator's
-/// prescribed motion and reaction bookkeeping (Integrator's InitialTag / FinalTag).
+/// prescribed motion and reaction bookkeeping (Integrator's InitialTag / final_driven).
 template <class MemorySpace>
 struct BieIntegrator {
   Integrator<MemorySpace> ex;
@@ -262,7 +262,7 @@ struct BieIntegrator {
   /// Driven elements: reaction and work as in the explicit methods.
   KOKKOS_INLINE_FUNCTION void operator()(BieFinalTag, int e) const {
     if (ex.drive(e) != 0) {
-      ex(FinalTag{}, e);
+      ex.final_driven(e);
       return;
     }
     final_lanes<1, true>(ex.type(e), &e, 1);
@@ -316,7 +316,7 @@ struct BieIntegrator {
 
   KOKKOS_INLINE_FUNCTION void operator()(BieSplitFinalTag, int e) const {
     if (ex.drive(e) != 0) {
-      ex(FinalTag{}, e);
+      ex.final_driven(e);
       return;
     }
     const int t = ex.type(e);
@@ -332,10 +332,10 @@ struct BieIntegrator {
   }
 
   /// End-of-step work item w beyond the tiles: a driven element, booked as the explicit methods
-  /// (FinalTag when book). True when w was such an item (nothing else to do).
+  /// (Integrator::final_driven). True when w was such an item (nothing else to do).
   KOKKOS_INLINE_FUNCTION bool driven_final(int w) const {
     if (w < ex.n_tiles) return false;
-    ex(FinalTag{}, ex.driven(w - ex.n_tiles));
+    ex.final_driven(ex.driven(w - ex.n_tiles));
     return true;
   }
 

@@ -25,7 +25,14 @@ namespace nacre::dyn {
 
 struct ForceTag {};
 struct InitialTag {};
+/// How final_integrate applies (M + h/2 C)^-1: the dense product, or its diagonal where every
+/// off-diagonal entry is an exact zero (Model::ainv_diagonal, beta_d = 0: the same bits, the
+/// zeros skipped). A type, chosen once per run with the element walk.
+struct AinvDense {};
+struct AinvDiagonal {};
+template <class AinvForm>
 struct FinalTag {};
+template <class AinvForm>
 struct FinalTileTag {};
 
 /// Column of the per-element accumulators (every element): work done on it and energy its
@@ -215,7 +222,7 @@ struct Integrator {
   AccView<MemorySpace> acc;
   DrivenAccView<MemorySpace> dacc;
   int nd, n_tiles, n_driven;
-  bool has_fp, ainv_diagonal;
+    bool has_fp;
   double h, alpha, beta;
   loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
@@ -228,7 +235,7 @@ struct Integrator {
         tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
         Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
         v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
-        ainv_diagonal(m.ainv_diagonal), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
+                h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
   /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
   /// displacement at the node (u_y = side/2 [tension + bending (1 - x/W)]) plus the small
@@ -269,22 +276,24 @@ struct Integrator {
 
   /// End of step of element e: a free element as a lane of final_free (a tile of width 1), a
   /// driven one booked by final_driven.
-  KOKKOS_INLINE_FUNCTION void operator()(FinalTag, int e) const {
+    template <class AinvForm>
+  KOKKOS_INLINE_FUNCTION void operator()(FinalTag<AinvForm>, int e) const {
     if (drive(e) != 0) {
       final_driven(e);
       return;
     }
-    final_free<1>(type(e), &e, 1);
+        final_free<1, AinvForm>(type(e), &e, 1);
   }
 
   /// End of step over the element tiles of Model (work items w >= n_tiles: the driven elements).
-  KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag, int w) const {
+    template <class AinvForm>
+  KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag<AinvForm>, int w) const {
     if (w >= n_tiles) {
       final_driven(driven(w - n_tiles));
       return;
     }
     const int k0 = tile_start(w);
-    final_free<kTile>(type(tile_elem(k0)), tile_elem.data() + k0, tile_start(w + 1) - k0);
+    final_free<kTile, AinvForm>(type(tile_elem(k0)), tile_elem.data() + k0, tile_start(w + 1) - k0);
   }
 
   /// The reaction and the work of driven element e.
@@ -334,7 +343,7 @@ struct Integrator {
   /// width kTile: one code, so the two are the same bits by construction. The matrix entry is
   /// loaded once per tile and the innermost loops run over the lanes (independent accumulators:
   /// SIMD lanes and no add-latency chain).
-  template <int W>
+    template <int W, class AinvForm>
   KOKKOS_INLINE_FUNCTION void final_free(int t, const int* elem, int nb) const {
     double x[kMaxDof][W], wv[kMaxDof][W], f[kMaxDof][W], r[kMaxDof][W], vo[kMaxDof][W], ao[kMaxDof][W];
     double work[W], pd[W];
@@ -376,7 +385,7 @@ struct Integrator {
     double vb[kMaxDof][W];
     for (int i = 0; i < nd; ++i) {
       double an[W];
-      if (ainv_diagonal) {  // the off-diagonal terms are exact zeros: the sum is this one product
+            if constexpr (std::is_same_v<AinvForm, AinvDiagonal>) {  // the off-diagonal terms are exact zeros: the sum is this one product
         const double c = Ainv(t, i, i);
         for (int b = 0; b < W; ++b) an[b] = c * r[i][b];
       } else {
@@ -492,25 +501,26 @@ void force(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>
 }
 
 /// \brief final_integrate: v_{n+1}, a_{n+1} and the books, per element or over the tiles.
-template <class ExecutionSpace, bool Tiled>
-void final_integrate(const ExecutionSpace& space, ElementTiles<Tiled>, const Integrator<MemOf<ExecutionSpace>>& it,
-                     int n_elem) {
+template <class ExecutionSpace, bool Tiled, class AinvForm>
+void final_integrate(const ExecutionSpace& space, ElementTiles<Tiled>, AinvForm,
+                     const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
   if constexpr (Tiled)
     Kokkos::parallel_for("nacre::dyn::final_integrate_tiled",
-                         Kokkos::RangePolicy<ExecutionSpace, FinalTileTag>(space, 0, it.n_tiles + it.n_driven), it);
+                         Kokkos::RangePolicy<ExecutionSpace, FinalTileTag<AinvForm>>(space, 0, it.n_tiles + it.n_driven), it);
   else
-    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag>(space, 0, n_elem),
+    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag<AinvForm>>(space, 0, n_elem),
                          it);
 }
 
 /// \brief One velocity-Verlet step (UE, BE): initial_integrate, force, final_integrate.
-template <class ExecutionSpace, bool Tiled>
-void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, const Integrator<MemOf<ExecutionSpace>>& it,
-                 const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem, int n_iface) {
+template <class ExecutionSpace, bool Tiled, class AinvForm>
+void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, AinvForm ainv,
+                 const Integrator<MemOf<ExecutionSpace>>& it, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_elem,
+                 int n_iface) {
   initial_integrate(space, it, n_elem);
   force(space, op, n_iface);
-  final_integrate(space, tiles, it, n_elem);
+    final_integrate(space, tiles, ainv, it, n_elem);
 }
 
 /// \brief Sum of one accumulator column over the first n rows (deterministic): AccView over
