@@ -195,11 +195,10 @@ struct Simulation::Impl {
   /// chosen once (choose_step): velocity Verlet per element or tiled, or BIE's chosen step.
   using StepFn = void (*)(const Impl&, const Integrator<Mem>&);
   StepFn step_fn = nullptr;
-    template <bool Tiled, class Ainv>
+  template <bool Tiled, class Ainv>
   static void verlet_of(const Impl& I, const Integrator<Mem>& it) {
     I.backend.visit([&](const auto& s) {
-      verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem,
-                  I.m.n_iface);
+      verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
     });
   }
   static void bie_of(const Impl& I, const Integrator<Mem>& it) {
@@ -209,9 +208,12 @@ struct Simulation::Impl {
   }
   void choose_step() {
     choose_bie_step();
-        if (is_bie()) step_fn = &bie_of;
-    else if (m.ainv_diagonal) step_fn = tiled() ? &verlet_of<true, AinvDiagonal> : &verlet_of<false, AinvDiagonal>;
-    else step_fn = tiled() ? &verlet_of<true, AinvDense> : &verlet_of<false, AinvDense>;
+    if (is_bie())
+      step_fn = &bie_of;
+    else if (m.ainv_diagonal)
+      step_fn = tiled() ? &verlet_of<true, AinvDiagonal> : &verlet_of<false, AinvDiagonal>;
+    else
+      step_fn = tiled() ? &verlet_of<true, AinvDense> : &verlet_of<false, AinvDense>;
   }
 
   /// Driven elements at their prescribed values for time t (no step taken).

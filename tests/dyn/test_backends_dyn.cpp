@@ -77,21 +77,25 @@ State run(const ExecutionSpace& space, dyn::Params p, const Setup& st, Walk walk
   for (long n = 1; n <= steps; ++n) {
     at(n);
     switch (walk) {
-            case Walk::per_element:  // the dense (M + h/2 C)^-1 product per element
-        dyn::verlet_step(space, dyn::ElementTiles<false>{}, dyn::AinvDense{}, it, op, ne, m.n_iface);
-        break;
-      case Walk::tiled:  // over the tiles, its exact zeros skipped (C = alpha M: the inverse is diagonal)
-        REQUIRE(m.ainv_diagonal);
-        dyn::verlet_step(space, dyn::ElementTiles<true>{}, dyn::AinvDiagonal{}, it, op, ne, m.n_iface);
-        break;
-      case Walk::bie_unfused:
-        if (split) dyn::bie_step(space, dyn::BieSplitScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
-        else dyn::bie_step(space, dyn::BieIterateScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
-        break;
-      case Walk::bie_fused:  // the dense J^-1 apply: the unfused solve's sums in the same order
-        if (split) dyn::bie_step(space, dyn::BieSplitScheme{}, std::true_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
-        else dyn::bie_step(space, dyn::BieIterateScheme{}, std::true_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
-        break;
+    case Walk::per_element:  // the dense (M + h/2 C)^-1 product per element
+      dyn::verlet_step(space, dyn::ElementTiles<false>{}, dyn::AinvDense{}, it, op, ne, m.n_iface);
+      break;
+    case Walk::tiled:  // over the tiles, its exact zeros skipped (C = alpha M: the inverse is diagonal)
+      REQUIRE(m.ainv_diagonal);
+      dyn::verlet_step(space, dyn::ElementTiles<true>{}, dyn::AinvDiagonal{}, it, op, ne, m.n_iface);
+      break;
+    case Walk::bie_unfused:
+      if (split)
+        dyn::bie_step(space, dyn::BieSplitScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
+      else
+        dyn::bie_step(space, dyn::BieIterateScheme{}, std::false_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
+      break;
+    case Walk::bie_fused:  // the dense J^-1 apply: the unfused solve's sums in the same order
+      if (split)
+        dyn::bie_step(space, dyn::BieSplitScheme{}, std::true_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
+      else
+        dyn::bie_step(space, dyn::BieIterateScheme{}, std::true_type{}, dyn::JinvDense{}, bie_of(), op, solve, plan);
+      break;
     }
   }
   space.fence();

@@ -222,7 +222,7 @@ struct Integrator {
   AccView<MemorySpace> acc;
   DrivenAccView<MemorySpace> dacc;
   int nd, n_tiles, n_driven;
-    bool has_fp;
+  bool has_fp;
   double h, alpha, beta;
   loading::Pattern load;
   double D = 0, Dd = 0, Ddd = 0;  ///< opening and its rates at the new time
@@ -232,10 +232,10 @@ struct Integrator {
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const DrivenAccView<MemorySpace>& dacc_,
              const IforceView<MemorySpace>& f_)
       : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), tile_start(m.tile_start),
-        tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
-        Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
-        v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven), has_fp(m.fp.extent(0) > 0),
-                h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
+        tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy),
+        K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_),
+        u(u_), v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven),
+        has_fp(m.fp.extent(0) > 0), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
   /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
   /// displacement at the node (u_y = side/2 [tension + bending (1 - x/W)]) plus the small
@@ -276,17 +276,17 @@ struct Integrator {
 
   /// End of step of element e: a free element as a lane of final_free (a tile of width 1), a
   /// driven one booked by final_driven.
-    template <class AinvForm>
+  template <class AinvForm>
   KOKKOS_INLINE_FUNCTION void operator()(FinalTag<AinvForm>, int e) const {
     if (drive(e) != 0) {
       final_driven(e);
       return;
     }
-        final_free<1, AinvForm>(type(e), &e, 1);
+    final_free<1, AinvForm>(type(e), &e, 1);
   }
 
   /// End of step over the element tiles of Model (work items w >= n_tiles: the driven elements).
-    template <class AinvForm>
+  template <class AinvForm>
   KOKKOS_INLINE_FUNCTION void operator()(FinalTileTag<AinvForm>, int w) const {
     if (w >= n_tiles) {
       final_driven(driven(w - n_tiles));
@@ -343,7 +343,7 @@ struct Integrator {
   /// width kTile: one code, so the two are the same bits by construction. The matrix entry is
   /// loaded once per tile and the innermost loops run over the lanes (independent accumulators:
   /// SIMD lanes and no add-latency chain).
-    template <int W, class AinvForm>
+  template <int W, class AinvForm>
   KOKKOS_INLINE_FUNCTION void final_free(int t, const int* elem, int nb) const {
     double x[kMaxDof][W], wv[kMaxDof][W], f[kMaxDof][W], r[kMaxDof][W], vo[kMaxDof][W], ao[kMaxDof][W];
     double work[W], pd[W];
@@ -385,7 +385,9 @@ struct Integrator {
     double vb[kMaxDof][W];
     for (int i = 0; i < nd; ++i) {
       double an[W];
-            if constexpr (std::is_same_v<AinvForm, AinvDiagonal>) {  // the off-diagonal terms are exact zeros: the sum is this one product
+      if constexpr (std::is_same_v<
+                        AinvForm,
+                        AinvDiagonal>) {  // the off-diagonal terms are exact zeros: the sum is this one product
         const double c = Ainv(t, i, i);
         for (int b = 0; b < W; ++b) an[b] = c * r[i][b];
       } else {
@@ -506,11 +508,12 @@ void final_integrate(const ExecutionSpace& space, ElementTiles<Tiled>, AinvForm,
                      const Integrator<MemOf<ExecutionSpace>>& it, int n_elem) {
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::final_integrate");
   if constexpr (Tiled)
-    Kokkos::parallel_for("nacre::dyn::final_integrate_tiled",
-                         Kokkos::RangePolicy<ExecutionSpace, FinalTileTag<AinvForm>>(space, 0, it.n_tiles + it.n_driven), it);
+    Kokkos::parallel_for(
+        "nacre::dyn::final_integrate_tiled",
+        Kokkos::RangePolicy<ExecutionSpace, FinalTileTag<AinvForm>>(space, 0, it.n_tiles + it.n_driven), it);
   else
-    Kokkos::parallel_for("nacre::dyn::final_integrate", Kokkos::RangePolicy<ExecutionSpace, FinalTag<AinvForm>>(space, 0, n_elem),
-                         it);
+    Kokkos::parallel_for("nacre::dyn::final_integrate",
+                         Kokkos::RangePolicy<ExecutionSpace, FinalTag<AinvForm>>(space, 0, n_elem), it);
 }
 
 /// \brief One velocity-Verlet step (UE, BE): initial_integrate, force, final_integrate.
@@ -520,7 +523,7 @@ void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, AinvFor
                  int n_iface) {
   initial_integrate(space, it, n_elem);
   force(space, op, n_iface);
-    final_integrate(space, tiles, ainv, it, n_elem);
+  final_integrate(space, tiles, ainv, it, n_elem);
 }
 
 /// \brief Sum of one accumulator column over the first n rows (deterministic): AccView over
