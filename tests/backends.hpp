@@ -3,10 +3,13 @@
 // TEMPLATE_LIST_TEST_CASE (Cabana style): a test written once runs on Kokkos::Serial and on
 // Kokkos::OpenMP where the installed Kokkos enables them (Debian's 5.2 has OpenMP only; a
 // Serial+OpenMP build, e.g. Kokkos 4.6, runs both).
+#include <nacre/core/backend.hpp>
+
 #include <Kokkos_Core.hpp>
 
 #include <string>
 #include <tuple>
+#include <variant>
 
 namespace nacre::test {
 
@@ -23,6 +26,17 @@ using OpenMPBackend = std::tuple<>;
 
 /// \brief Enabled host execution spaces.
 using HostBackends = decltype(std::tuple_cat(std::declval<SerialBackend>(), std::declval<OpenMPBackend>()));
+
+/// \brief The backends a run can choose (nacre::Backend: the spaces that reach the default memory
+/// space, where models and states live), default first: the host backends in a host build, the
+/// device alone in a CUDA build. Tests of solvers on models use this list.
+template <class V>
+struct TupleOf;
+template <class... T>
+struct TupleOf<std::variant<T...>> {
+  using type = std::tuple<T...>;
+};
+using RunBackends = typename TupleOf<nacre::AnySpace>::type;
 
 /// \brief Names of the enabled host backends, for the log of a test run.
 inline std::string host_backend_names() {

@@ -1,4 +1,5 @@
-// The dynamics kernels, written once, run on every enabled host backend (tests/backends.hpp) and
+// The dynamics kernels, written once, run on every backend a run can choose (tests/backends.hpp
+// RunBackends: the host backends of a host build, the device of a CUDA build) and
 // must leave the same bits as on the default execution space: a notched wall driven to rupture,
 // velocity Verlet (BE) per element with the dense (M + h/2 C)^-1 and over the tiles with its
 // diagonal, and BIE's iterated and split steps fused
@@ -126,7 +127,7 @@ dyn::Params cracking(dyn::Method m) {
 }  // namespace
 
 TEMPLATE_LIST_TEST_CASE("dyn kernels leave the same bits on every host backend", "[dyn][backends]",
-                        nacre::test::HostBackends) {
+                        nacre::test::RunBackends) {
   const TestType space;
   INFO("backend " << TestType::name() << " (enabled: " << nacre::test::host_backend_names() << ")");
   const auto st = make(wall(8, 6, 3));
@@ -149,7 +150,7 @@ TEMPLATE_LIST_TEST_CASE("dyn kernels leave the same bits on every host backend",
 }
 
 TEMPLATE_LIST_TEST_CASE("dyn::Simulation on a chosen backend: the same state bit for bit as on the default one",
-                        "[dyn][backends]", nacre::test::HostBackends) {
+                        "[dyn][backends]", nacre::test::RunBackends) {
   // the top layer on the backend (Simulation holds a Backend: every launch of a step, a check,
   // the books and the roll-back copies go to its instance), BE and BIE, through the monitor
   const auto st = make(wall(8, 6, 3));
