@@ -202,8 +202,7 @@ TEMPLATE_LIST_TEST_CASE("the cohesive law and the load pattern run inside kernel
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every backend", "[rng][backends]",
-                        test::RunBackends) {
+TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every backend", "[rng][backends]", test::RunBackends) {
   const std::size_t n = 3001;
   Kokkos::View<std::uint64_t*, MemSpace> id_view("nacre::test::ids", n);
   const rng::StreamIds<> ids = id_view;
