@@ -155,11 +155,11 @@ struct Sample {
 
 Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s,
                        const geometry::Interfaces& f, long steps) {
-  dyn::Params p = dynamics_params(d, s.size());
+    dyn::Params p = dynamics_params(d, s.size());
   const bool from_fraction = d.dynamics.dt <= 0;
-  if (from_fraction) p.dt = 1e-9;
+  if (from_fraction) p.dt = 1e-9;  // replaced before the first step: the run's own rule
   dyn::Simulation sim(b, p, s, f, d.mortar);
-  if (from_fraction) sim.set_initial_dt(d.dynamics.dt_fraction * sim.step_report().estimate);
+  if (from_fraction) take_initial_step(sim, p, d, b, s, f, nullptr);
   Sample r;
   r.backend = b.name();
   r.units = steps;
@@ -312,13 +312,14 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
 int bench(const BenchOptions& o) {
   const deck::Deck d = deck::parse_deck_file(o.deck);
   const bool dynamic = d.dynamics.enabled;
-  std::vector<Backend> backends;
-  for (const auto& name : o.backends.empty() ? Backend::names() : std::vector<std::string>{})
-    backends.push_back(Backend::parse(name));
+    std::vector<std::string> names = Backend::names();
   if (!o.backends.empty()) {
+    names.clear();
     std::stringstream in(o.backends);
-    for (std::string name; std::getline(in, name, ',');) backends.push_back(Backend::parse(name));
+    for (std::string name; std::getline(in, name, ',');) names.push_back(name);
   }
+  std::vector<Backend> backends;
+  for (const auto& name : names) backends.push_back(Backend::parse(name));
   if (!dynamic && std::any_of(backends.begin(), backends.end(), [](const Backend& b) { return !b.is_default(); })) {
     std::cerr << "nacre bench: the Monte Carlo solver runs on the default backend only in this version: benching "
               << Backend::names().front() << " alone\n";

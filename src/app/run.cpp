@@ -67,6 +67,16 @@ void check_kokkos_flags(const std::vector<char*>& args) {
   }
 }
 
+/// \brief `nacre --backend list` (or --backend=list) anywhere on the command line.
+bool asks_backend_list(int argc, char* argv[]) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a(argv[i]);
+    if (a == "--backend=list" || (a == "--backend" && i + 1 < argc && std::string_view(argv[i + 1]) == "list"))
+      return true;
+  }
+  return false;
+}
+
 struct RunOptions {
   bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
@@ -297,16 +307,13 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
-    if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
-    if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
-    // `nacre --backend list`: the backends this build can run, the default first (no deck)
-    for (int i = 1; i + 1 < argc || (i < argc && std::string_view(argv[i]) == "--backend=list"); ++i)
-      if (std::string_view(argv[i]) == "--backend=list" ||
-          (std::string_view(argv[i]) == "--backend" && std::string_view(argv[i + 1]) == "list")) {
-        const auto n = Backend::names();
-        for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
-        return 0;
-      }
+      if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+  if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
+  if (asks_backend_list(argc, argv)) {  // the backends this build can run, the default first (no deck)
+    const auto n = Backend::names();
+    for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
+    return 0;
+  }
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
   for (int i = 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
@@ -329,12 +336,10 @@ int main(int argc, char* argv[]) {
   cli.add_option("--backend", opt.backend,
                  "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
                  "default: Kokkos' default space. [dynamics] decks only in this version")
-      ->check([](const std::string& b) {
-        const auto n = Backend::names();
-        if (std::find(n.begin(), n.end(), b) != n.end()) return std::string();
-        std::string list;
-        for (const auto& x : n) list += (list.empty() ? "" : ", ") + x;
-        return "\"" + b + "\" is not a backend of this build; expected one of: " + list;
+            ->check([](const std::string& b) {
+        return Backend::canonical(b).empty()
+                   ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
+                   : std::string();
       });
   cli.add_flag("--extend", opt.extend,
                "with --restart: the deck's final_displacement may differ from the checkpoint's run "
@@ -356,7 +361,8 @@ int main(int argc, char* argv[]) {
     std::cerr << "nacre: error: " << e.what() << "\n";
     return 2;
   }
-  if (!out_override.empty()) d.output.directory = out_override;
+    if (!out_override.empty()) d.output.directory = out_override;
+  if (!opt.backend.empty()) opt.backend = Backend::canonical(opt.backend);  // checked above: "Serial" -> "serial"
   if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
     std::cerr << "nacre: error: --backend " << opt.backend << ": the Monte Carlo solver runs on the default backend ("
               << Backend::names().front() << ") in this version; --backend applies to [dynamics] decks\n";

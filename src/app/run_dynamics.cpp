@@ -231,10 +231,9 @@ class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
       : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
-        backend_(session_.backend()), setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
+        setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
         crack_(setup_.specimen, setup_.interfaces, d.geometry),
-        rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)),
-        progress_(session_.progress()) {}
+                rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)) {}
 
   int run() {
     log_start();
@@ -284,7 +283,7 @@ private:
     }
     const bool from_fraction = restart.empty() && D_.dt <= 0;
     if (from_fraction) p_.dt = 1e-9;  // replaced below, before the first step
-    sim_.emplace(backend_, p_, setup_.specimen, setup_.interfaces, d_.mortar);
+    sim_.emplace(session_.backend(), p_, setup_.specimen, setup_.interfaces, d_.mortar);
     if (from_fraction) take_step_from_fraction();
     fixed_total_ = std::max(1L, static_cast<long>(std::ceil(D_.end_time / p_.dt - 1e-9)));
     if (restart.empty()) return;
@@ -294,31 +293,14 @@ private:
                                ", the checkpoint says " + std::to_string(cp_.step));
     if (log_)
       *log_ << "nacre: restarting from " << restart << " at step " << cp_.step << ", t = " << cp_.time << " s"
-            << (!cp_.backend.empty() && cp_.backend != backend_.name()
-                    ? " (written on " + cp_.backend + ", continued on " + backend_.name() + ": the same bits)"
+            << (!cp_.backend.empty() && cp_.backend != session_.backend().name()
+                    ? " (written on " + cp_.backend + ", continued on " + session_.backend().name() + ": the same bits)"
                     : std::string())
             << "\n";
   }
 
-  void take_step_from_fraction() {
-    h_crit_ = sim_->step_report().estimate;
-    if (!std::isfinite(h_crit_) || h_crit_ <= 0)
-      throw std::runtime_error("critical step estimate failed (" + num(h_crit_) + ")");
-    if (!estimate_bounds_step(p_)) {  // the iterated BIE step with stiffness damping: bisect too
-      Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
-      dyn::Params q = p_;
-      q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
-      const double hb = dyn::critical_step(backend_, q, setup_.specimen, setup_.interfaces, d_.mortar,
-                                           critical_trial_steps, critical_rtol);
-      if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
-      if (log_)
-        *log_ << "nacre: the iterated BIE step with stiffness damping: bisected critical step " << hb
-              << " s against the estimate " << h_crit_ << " s; the smaller is used\n";
-      h_crit_ = std::min(h_crit_, hb);
-    }
-    p_.dt = D_.dt_fraction * h_crit_;
-    deck::check_time_steps(d_, p_.dt, "dynamics.dt_fraction");  // e.g. end_time = 1e20: refused, not overflowed
-    sim_->set_initial_dt(p_.dt);
+    void take_step_from_fraction() {
+    h_crit_ = take_initial_step(*sim_, p_, d_, session_.backend(), setup_.specimen, setup_.interfaces, log_);
     if (log_)
       *log_ << "nacre: estimated critical step " << h_crit_ << " s, dt = " << D_.dt_fraction << " x = " << p_.dt
             << " s (" << elapsed() << " s)\n";
@@ -386,7 +368,7 @@ private:
     c.dt = p_.dt;
     c.end_time = D_.end_time;
     c.method = method_name(p_.method);
-    c.backend = backend_.name();
+    c.backend = session_.backend().name();
     c.state = sim_->save_state();
     return c;
   }
@@ -438,9 +420,9 @@ private:
       c["thickness"] = p_.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
       c["bed_work_of_fracture"] = d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2;
     }
-    j["threads"] = backend_.concurrency();
-    j["execution_space"] = backend_.kokkos_name();
-    j["backend"] = backend_.name();
+    j["threads"] = session_.backend().concurrency();
+    j["execution_space"] = session_.backend().kokkos_name();
+    j["backend"] = session_.backend().name();
     j["seconds"] = elapsed();
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
@@ -454,7 +436,7 @@ private:
 
   /// Stop on instability: the rows, dump and checkpoint written so far are all finite and stay.
   int unstable(const std::string& message) {
-    if (progress_) std::fprintf(stderr, "\n");
+    if (session_.progress()) std::fprintf(stderr, "\n");
     status_ = "unstable";
     why_ = message;
     writer_->flush_rows();
@@ -523,7 +505,7 @@ private:
   /// The log line of a dump, the heartbeat off a terminal, the progress line on one.
   void report(const SeriesRow& r, bool dumped) {
     const long step = r.step;
-    if (log_ && !progress_ && (dumped || session_.heartbeat_due())) {
+    if (log_ && !session_.progress() && (dumped || session_.heartbeat_due())) {
       session_.line_written();
       if (dumped) {
         *log_ << "  step " << step << "/" << total_now() << ": t = " << r.time << " s, D = " << r.displacement
@@ -549,7 +531,7 @@ private:
   /// SIGINT/SIGTERM before the end: the checkpoint of this completed step (unless the row's
   /// dump wrote it), the summary, exit 128 + signal.
   int interrupted(int sig, bool dumped) {
-    if (progress_) std::fprintf(stderr, "\n");
+    if (session_.progress()) std::fprintf(stderr, "\n");
     const long step = sim_->steps();
     if (!dumped) {  // the rows so far are written; the checkpoint holds this completed step
       DynCheckpoint c = checkpoint();
@@ -576,7 +558,7 @@ private:
   }
 
   int done() {
-    if (progress_) std::fprintf(stderr, "\n");
+    if (session_.progress()) std::fprintf(stderr, "\n");
     writer_->flush_rows();
     summary();
         if (log_)
@@ -590,12 +572,12 @@ private:
   const DynRunOptions& opt_;
     RunSession session_;
   std::ostream* log_;
-  const Backend& backend_;  ///< every kernel of the run goes to this instance (the session's)
+  
   const Setup setup_;
   dyn::Params p_;
   const fracture::CrackTracker crack_;
   const double rayleigh_;  ///< the bricks' Rayleigh speed: the crack-tip speed's scale
-  const bool progress_;
+  
   DynCheckpoint cp_;
   double h_crit_ = 0;  ///< the estimated critical step a dt_fraction deck took its dt from
   long fixed_total_ = 1;
@@ -614,6 +596,27 @@ private:
 };
 
 }  // namespace
+
+double take_initial_step(dyn::Simulation& sim, dyn::Params& p, const deck::Deck& d, const Backend& backend,
+                         const geometry::Specimen& s, const geometry::Interfaces& f, std::ostream* log) {
+  double h = sim.step_report().estimate;
+  if (!std::isfinite(h) || h <= 0) throw std::runtime_error("critical step estimate failed (" + num(h) + ")");
+  if (!estimate_bounds_step(p)) {  // the iterated BIE step with stiffness damping: bisect too
+    Kokkos::Profiling::ScopedRegion region("nacre::app::critical_step");
+    dyn::Params q = p;
+    q.dt = 0;  // bracketed from the model's estimate, as --critical-step does
+    const double hb = dyn::critical_step(backend, q, s, f, d.mortar, critical_trial_steps, critical_rtol);
+    if (!std::isfinite(hb) || hb <= 0) throw std::runtime_error("critical step search failed (" + num(hb) + ")");
+    if (log)
+      *log << "nacre: the iterated BIE step with stiffness damping: bisected critical step " << hb
+           << " s against the estimate " << h << " s; the smaller is used\n";
+    h = std::min(h, hb);
+  }
+  p.dt = d.dynamics.dt_fraction * h;
+  deck::check_time_steps(d, p.dt, "dynamics.dt_fraction");  // e.g. end_time = 1e20: refused, not overflowed
+  sim.set_initial_dt(p.dt);
+  return h;
+}
 
 int run_dynamics(const deck::Deck& d, const DynRunOptions& opt) { return DynamicRun(d, opt).run(); }
 

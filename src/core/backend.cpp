@@ -37,17 +37,27 @@ std::vector<std::string> Backend::names() {
   return n;
 }
 
+std::string Backend::canonical(const std::string& name) {
+  const auto n = names();
+  const auto it = std::find(n.begin(), n.end(), lower(name));
+  return it == n.end() ? std::string() : *it;
+}
+
+std::string Backend::names_list() {
+  std::string list;
+  for (const auto& x : names()) list += (list.empty() ? "" : ", ") + x;
+  return list;
+}
+
 Backend Backend::parse(const std::string& name) {
   const auto n = names();
-  for (std::size_t k = 0; k < n.size(); ++k)
-    if (n[k] == lower(name)) {
-      Backend b;
-      b.space_ = instance(k, kAll);
-      return b;
-    }
-  std::string list;
-  for (const auto& x : n) list += (list.empty() ? "" : ", ") + x;
-  throw std::invalid_argument("backend \"" + name + "\" is not one this build can run; expected one of: " + list);
+  const auto it = std::find(n.begin(), n.end(), canonical(name));
+  if (it == n.end())
+    throw std::invalid_argument("backend \"" + name + "\" is not one this build can run; expected one of: " +
+                                names_list());
+  Backend b;
+  b.space_ = instance(static_cast<std::size_t>(it - n.begin()), kAll);
+  return b;
 }
 
 std::string Backend::name() const { return lower(kokkos_name()); }

@@ -435,19 +435,19 @@ bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
 bool Simulation::advance(long n) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
   auto& I = *impl_;
-  const Backend& space = I.backend;
+  const Backend& backend = I.backend;
   long done = 0;
   while (done < n) {
     const long chunk = std::min<long>(kCheckEvery, n - done);
     I.save_copy();
     const long start = I.step;
     for (long k = 0; k < chunk; ++k) I.step_once();
-    space.fence();
+    backend.fence();
     if (const auto h = I.healthy(true); h != Impl::Health::ok) {
       if (h == Impl::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
         I.load_copy();                         // back to the chunk's start, which passed every check
         I.step = start;
-        space.fence();
+        backend.fence();
         return false;
       }
       // replay the chunk step by step to stop at the last good step
@@ -456,11 +456,11 @@ bool Simulation::advance(long n) {
       for (long k = 0; k < chunk; ++k) {
         I.save_copy();
         I.step_once();
-        space.fence();
+        backend.fence();
         if (I.healthy(false) != Impl::Health::ok) {
           I.load_copy();
           --I.step;
-          space.fence();
+          backend.fence();
           return false;
         }
       }

@@ -59,6 +59,13 @@ PY
 else
   bad "half run or restart failed: $(tail -3 half.txt moved.txt)"
 fi
+# a backend's name is case-insensitive ("OpenMP" as Kokkos spells it), summary.json the canonical name
+if "$exe" "$src/tests/app/tiny_dynamic.toml" --backend "${first^^}" -o upper -q > upper.txt 2>&1 &&
+   python3 -c "import json,sys; sys.exit(json.load(open('upper/summary.json'))['backend'] != '$first')"; then
+  ok "--backend ${first^^} runs on $first"
+else
+  bad "--backend ${first^^}: $(tail -2 upper.txt)"
+fi
 expect 2 "not a backend of this build; expected one of" "$exe" "$src/tests/app/tiny_dynamic.toml" --backend no-such-backend -o unknown
 if [ "${#backends[@]}" -ge 2 ]; then
   expect 2 "Monte Carlo solver runs on the default backend" "$exe" "$src/tests/app/tiny.toml" --backend "${backends[1]}" -o mc_other

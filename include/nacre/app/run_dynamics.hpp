@@ -5,6 +5,7 @@
 #include <nacre/dyn/simulation.hpp>
 
 #include <cstddef>
+#include <iosfwd>
 #include <string>
 
 namespace nacre::app {
@@ -15,6 +16,14 @@ inline constexpr int exit_unstable = 3;
 /// \brief dyn::Params of a deck's [dynamics] (and [load]) section; the Table 4.2 damping preset
 /// needs the specimen's brick count. dt is the deck's dt (0 when the deck gives dt_fraction).
 [[nodiscard]] dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks);
+
+/// \brief A dt_fraction deck's step, as a run takes it: dt_fraction x the estimated critical step of
+/// `sim` (built at any positive dt), the smaller of it and the bisected step for the iterated BIE
+/// step with stiffness damping (which the estimate does not bound; bisection on `backend`, logged
+/// to `log` when not null); the step checked against [limits] (DeckError), set in p.dt and
+/// `sim`. Returns the critical step used.
+double take_initial_step(dyn::Simulation& sim, dyn::Params& p, const deck::Deck& d, const Backend& backend,
+                         const geometry::Specimen& s, const geometry::Interfaces& f, std::ostream* log);
 
 struct DynRunOptions {
   bool quiet = false, tty = false;
