@@ -155,7 +155,7 @@ struct Sample {
 
 Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s,
                        const geometry::Interfaces& f, long steps) {
-    dyn::Params p = dynamics_params(d, s.size());
+  dyn::Params p = dynamics_params(d, s.size());
   const bool from_fraction = d.dynamics.dt <= 0;
   if (from_fraction) p.dt = 1e-9;  // replaced before the first step: the run's own rule
   dyn::Simulation sim(b, p, s, f, d.mortar);
@@ -312,7 +312,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
 int bench(const BenchOptions& o) {
   const deck::Deck d = deck::parse_deck_file(o.deck);
   const bool dynamic = d.dynamics.enabled;
-    std::vector<std::string> names = Backend::names();
+  std::vector<std::string> names = Backend::names();
   if (!o.backends.empty()) {
     names.clear();
     std::stringstream in(o.backends);

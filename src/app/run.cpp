@@ -307,7 +307,7 @@ int main(int argc, char* argv[]) {
   std::signal(SIGXFSZ, SIG_IGN);
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
-      if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
+  if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
   if (argc > 1 && std::string_view(argv[1]) == "bench") return bench_main(argc, argv);
   if (asks_backend_list(argc, argv)) {  // the backends this build can run, the default first (no deck)
     const auto n = Backend::names();
@@ -336,7 +336,7 @@ int main(int argc, char* argv[]) {
   cli.add_option("--backend", opt.backend,
                  "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
                  "default: Kokkos' default space. [dynamics] decks only in this version")
-            ->check([](const std::string& b) {
+      ->check([](const std::string& b) {
         return Backend::canonical(b).empty()
                    ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
                    : std::string();
@@ -361,7 +361,7 @@ int main(int argc, char* argv[]) {
     std::cerr << "nacre: error: " << e.what() << "\n";
     return 2;
   }
-    if (!out_override.empty()) d.output.directory = out_override;
+  if (!out_override.empty()) d.output.directory = out_override;
   if (!opt.backend.empty()) opt.backend = Backend::canonical(opt.backend);  // checked above: "Serial" -> "serial"
   if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
     std::cerr << "nacre: error: --backend " << opt.backend << ": the Monte Carlo solver runs on the default backend ("

@@ -233,7 +233,7 @@ public:
       : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
         setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
         crack_(setup_.specimen, setup_.interfaces, d.geometry),
-                rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)) {}
+        rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)) {}
 
   int run() {
     log_start();
@@ -299,7 +299,7 @@ private:
             << "\n";
   }
 
-    void take_step_from_fraction() {
+  void take_step_from_fraction() {
     h_crit_ = take_initial_step(*sim_, p_, d_, session_.backend(), setup_.specimen, setup_.interfaces, log_);
     if (log_)
       *log_ << "nacre: estimated critical step " << h_crit_ << " s, dt = " << D_.dt_fraction << " x = " << p_.dt
@@ -572,12 +572,12 @@ private:
   const DynRunOptions& opt_;
     RunSession session_;
   std::ostream* log_;
-  
+
   const Setup setup_;
   dyn::Params p_;
   const fracture::CrackTracker crack_;
   const double rayleigh_;  ///< the bricks' Rayleigh speed: the crack-tip speed's scale
-  
+
   DynCheckpoint cp_;
   double h_crit_ = 0;  ///< the estimated critical step a dt_fraction deck took its dt from
   long fixed_total_ = 1;

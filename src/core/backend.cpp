@@ -53,8 +53,8 @@ Backend Backend::parse(const std::string& name) {
   const auto n = names();
   const auto it = std::find(n.begin(), n.end(), canonical(name));
   if (it == n.end())
-    throw std::invalid_argument("backend \"" + name + "\" is not one this build can run; expected one of: " +
-                                names_list());
+    throw std::invalid_argument("backend \"" + name +
+                                "\" is not one this build can run; expected one of: " + names_list());
   Backend b;
   b.space_ = instance(static_cast<std::size_t>(it - n.begin()), kAll);
   return b;

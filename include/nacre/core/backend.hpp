@@ -58,7 +58,7 @@ public:
   static Backend parse(const std::string& name);
   /// \brief Names of the backends this build can run (the default first), lower case (no
   /// initialised Kokkos needed).
-    static std::vector<std::string> names();
+  static std::vector<std::string> names();
   /// \brief `name` as names() spells it when it names a backend of this build (case-insensitive),
   /// else "" (no initialised Kokkos needed).
   static std::string canonical(const std::string& name);
