@@ -1,7 +1,8 @@
 // The Monte Carlo kernels, written once, run on every enabled host backend (tests/backends.hpp)
 // and must leave the same bits as on the default execution space: energies, rupture counts,
 // and the poses after a series of colour sweeps with fixed uniforms. The deterministic sum and
-// the cohesive law are checked the same way. (Which backends ran is printed by the first test.)
+// the cohesive law are checked the same way, and then the whole Monte Carlo solver on each backend
+// a run can choose. (Which backends ran is printed by the first test.)
 #include "backends.hpp"
 
 #include <nacre/aes/aes128.hpp>
@@ -11,6 +12,7 @@
 #include <nacre/loading/pattern.hpp>
 #include <nacre/mc/kernels.hpp>
 #include <nacre/mc/model.hpp>
+#include <nacre/mc/solver.hpp>
 
 #include <catch2/catch_approx.hpp>
 #include <catch2/catch_template_test_macros.hpp>
@@ -255,5 +257,71 @@ TEST_CASE("AES-128 encrypts to the same bytes on every backend of the build", "[
     const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, out);
     INFO("backend " << name);
     CHECK(std::memcmp(h.data(), href.data(), h.span()) == 0);
+  }
+}
+
+TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a checkpoint moves between them",
+          "[mc][backends][restart]") {
+  // The whole solver (colour sweeps, the uniform source, the adaptive steps, the FIRE polish, the
+  // residual test) built for each backend the run can choose (mc::Solver picks SolverOn<space>
+  // once): every step record and the final poses the same bits as on the default backend; a
+  // checkpoint written on the default backend continues on each backend to the same end.
+  auto d = backend_deck();
+  d.output.hdf5 = false, d.output.charts = false;
+  d.solver.colouring = "tiles";
+  d.load.final_displacement = 0.012;
+  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
+  d.load.adaptive = true, d.load.predictor = true;
+  d.solver.temperature = 1e-7;
+  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
+  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  d.solver.adapt_interval = 20, d.solver.window_size = 60, d.solver.convergence_rep = 20;  // short windows
+  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+  auto s = geometry::build_specimen(d.geometry);  // (find_interfaces annotates it)
+  const auto f = geometry::find_interfaces(s, d.geometry);
+  struct Path {
+    std::vector<mc::StepRecord> rows;
+    std::vector<double> x, y, t;
+  };
+  auto run = [&](const Backend& b, const mc::Checkpoint* from, mc::Checkpoint* keep) {
+    mc::Solver solver(b, d, s, f);
+    CHECK(solver.backend().name() == b.name());
+    if (from) solver.restore(*from);
+    Path p;
+    solver.run([&](const mc::StepRecord& r) {
+      p.rows.push_back(r);
+      if (keep && r.step == 1) *keep = solver.checkpoint();
+    });
+    REQUIRE_FALSE(solver.failed());
+    solver.poses(p.x, p.y, p.t);
+    return p;
+  };
+  for (const bool aes : {false, true}) {
+    d.solver.rng = aes ? "aes-ctr" : "philox";      // in the sweep / a table the source fills
+    d.solver.per_brick_steps = aes;                  // and both step modes
+    CAPTURE(d.solver.rng);
+    mc::Checkpoint cp;
+    const Path ref = run(Backend{}, nullptr, &cp);
+    REQUIRE(ref.rows.size() >= 3);
+    CHECK(ref.rows.back().ruptured > 0);  // the notch opens: the non-elastic branches ran
+    CHECK(cp.backend == Backend{}.name());
+    for (const auto& name : Backend::names()) {
+      INFO("backend " << name);
+      const Path p = run(Backend::parse(name), nullptr, nullptr);
+      REQUIRE(p.rows.size() == ref.rows.size());
+      for (std::size_t k = 0; k < p.rows.size(); ++k) {
+        CHECK(p.rows[k].energy == ref.rows[k].energy);  // bit for bit
+        CHECK(p.rows[k].cycles == ref.rows[k].cycles);
+        CHECK(p.rows[k].residual == ref.rows[k].residual);
+        CHECK(p.rows[k].polish_iterations == ref.rows[k].polish_iterations);
+      }
+      CHECK(p.x == ref.x);
+      CHECK(p.y == ref.y);
+      CHECK(p.t == ref.t);
+      const Path resumed = run(Backend::parse(name), &cp, nullptr);
+      REQUIRE(resumed.rows.size() == ref.rows.size() - 1);
+      CHECK(resumed.rows.back().energy == ref.rows.back().energy);
+      CHECK(resumed.t == ref.t);
+    }
   }
 }

@@ -248,7 +248,7 @@ TEST_CASE("Philox numbers generated inside the sweep are those of the Philox tab
     rng::UniformTable<> u("nacre::test::u", m.n_free);
     mc::interface_energies(space, m, cache);
     for (std::uint64_t cyc = 0; cyc < 10; ++cyc) {
-      if (!in_place) source.fill(space, cyc, Kokkos::subview(m.id, Kokkos::make_pair(0, m.n_free)), u);
+      if (!in_place) source.fill(Backend(space), cyc, Kokkos::subview(m.id, Kokkos::make_pair(0, m.n_free)), u);
       for (std::size_t k = 0; k + 1 < m.colour_tiles.size(); ++k) {
         if (in_place)
           accepted[1] += mc::sweep_colour(space, m, m.colour_tiles[k], m.colour_tiles[k + 1], mc::PhiloxUniforms<MemSpace>{m.id, seed, cyc},

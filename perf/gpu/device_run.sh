@@ -31,6 +31,13 @@ have() { [ -x "$B/bin/$1" ]; }
 
 if [ "$what" = bench ] || [ "$what" = all ]; then
   export OMP_PROC_BIND=spread OMP_PLACES=threads
+  if have nacre; then
+    # every `nacre bench` figure first (README decks, scaled 100k / 1M / 4M bricks, UE / BE / BIE at
+    # ratio 500, AES-CTR inside the run): perf/bench_all.sh, the same files as on any machine
+    say "nacre bench: perf/bench_all.sh (sizes ${BENCH_SIZES:-100000,1000000,4000000})"
+    timeout "${BENCH_ALL_TIMEOUT:-420}" perf/bench_all.sh --sizes "${BENCH_SIZES:-100000,1000000,4000000}" \
+      "$R nacre" "$O/bench_all" >> "$O/bench.log" 2>&1 || say "  exit $?"
+  fi
   sizes="${DYN_SIZES:-10000,50000,100000,200000}"
   for m in "" _omp; do
     have nacre_perf_dyn_step$m || continue

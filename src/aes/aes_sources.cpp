@@ -121,12 +121,14 @@ AesCtrSource::AesCtrSource(std::uint64_t seed) {
   masks_ = detail::make_masks(ExecSpace(), expand_key(aes_ctr_key(seed)));
 }
 
-void AesCtrSource::fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams,
+void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams,
                         rng::UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::aes_ctr");
   check_extents("aes-ctr", streams.extent(0), u.extent(0));
-  detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_, 2 * streams.extent(0),
-                        CtrPlain{streams, draw}, TableSink<rng::UniformTable<>>{u});
+  backend.visit([&](const auto& space) {
+    detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_, 2 * streams.extent(0), CtrPlain{streams, draw},
+                          TableSink<rng::UniformTable<>>{u});
+  });
 }
 
 void AesCtrSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {
@@ -182,13 +184,15 @@ void MtAesSource::advance_to(std::uint64_t draw) {
   last_draw_ = draw;
 }
 
-void MtAesSource::fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams,
+void MtAesSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams,
                        rng::UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::mt_aes");
   check_extents("mt-aes", streams.extent(0), u.extent(0));
   advance_to(draw);  // host MT state, uploaded with a fence
-  detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_, 2 * streams.extent(0),
-                        MtPlain{streams, table_}, TableSink<rng::UniformTable<>>{u});
+  backend.visit([&](const auto& space) {
+    detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_, 2 * streams.extent(0), MtPlain{streams, table_},
+                          TableSink<rng::UniformTable<>>{u});
+  });
 }
 
 void MtAesSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {

@@ -1,6 +1,8 @@
-// `nacre bench DECK [--backends a,b] [--steps N | --cycles N] [--repeat R] [-o OUT]`: the deck's
-// kernels on each backend of this build in one process, in turn and repeated, timed by phase,
-// against the backend's own bounds measured in the same run, with the agreement of the results.
+// `nacre bench DECK [--backends a,b] [--steps N | --cycles N] [--repeat R] [-o OUT] [--compare DIR]`:
+// the deck's kernels on each backend of this build in one process, in turn and repeated, timed by
+// phase, against the backend's own bounds measured in the same run, with the agreement of the
+// results (bit for bit across the backends of a build; within a stated tolerance against another
+// build's bench, e.g. a CUDA one, with --compare).
 //
 // Why Kokkos' region callbacks: every phase of both solver families is already a labelled
 // Kokkos::Profiling::ScopedRegion ("nacre::dyn::interface_force", "nacre::mc::sweep_colour"...),
@@ -9,7 +11,8 @@
 // requirement), so the times hold on an asynchronous device too.
 //
 // Writes OUT/bench.csv (one row per backend, repeat and phase), OUT/bench.json (the machine, the
-// bounds, the best repeat per backend, the agreement) and OUT/bench.png (nacre_bench_plot.py).
+// bounds, the best repeat per backend, the agreement), OUT/state.bin (the first backend's result,
+// what another bench's --compare reads) and OUT/bench.png (nacre_bench_plot.py).
 #include "driver.hpp"
 
 #include <nacre/app/run_dynamics.hpp>
@@ -23,6 +26,9 @@
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 #include <nlohmann/json.hpp>
+#ifdef KOKKOS_ENABLE_CUDA
+#include <cuda_runtime.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -31,10 +37,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string_view>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace nacre::app {
@@ -142,15 +150,36 @@ std::string machine_cpu() {
   return "unknown";
 }
 
+/// The GPU the run used (a CUDA build): name, driver, memory, multiprocessors; null otherwise.
+nlohmann::ordered_json machine_gpu() {
+#ifdef KOKKOS_ENABLE_CUDA
+  int dev = 0, driver = 0, runtime = 0;
+  cudaDeviceProp p{};
+  if (cudaGetDevice(&dev) != cudaSuccess || cudaGetDeviceProperties(&p, dev) != cudaSuccess) return nullptr;
+  cudaDriverGetVersion(&driver);
+  cudaRuntimeGetVersion(&runtime);
+  return {{"name", p.name},
+          {"driver_version", driver},
+          {"runtime_version", runtime},
+          {"memory_bytes", p.totalGlobalMem},
+          {"multiprocessors", p.multiProcessorCount}};
+#else
+  return nullptr;
+#endif
+}
+
 // ---- one timed run of the deck on one backend
 struct Sample {
   std::string backend;
   int repeat = 0;
   double seconds = 0;                   ///< the timed stretch
-  long units = 0;                       ///< time steps (dynamics) or Monte Carlo cycles
+  long units = 0;                       ///< time steps (dynamics), Monte Carlo cycles or load steps
+  double work = 0;                      ///< brick-steps (dynamics) or brick trials (Monte Carlo)
+  double random_bits = 0;               ///< bits the uniform source drew (Monte Carlo: 256 per trial)
   std::map<std::string, double> phase;  ///< region -> seconds
   std::vector<double> state;            ///< what the agreement check compares
-  double bytes_per_unit = 0;            ///< dynamics: Simulation::step_bytes
+  double bytes_per_unit = 0;            ///< Simulation::step_bytes, Solver::cycle_bytes x cycles per unit
+  double dt = 0;                        ///< dynamics: the time step (s)
 };
 
 Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s,
@@ -163,6 +192,8 @@ Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Sp
   Sample r;
   r.backend = b.name();
   r.units = steps;
+  r.work = static_cast<double>(s.size()) * static_cast<double>(steps);
+  r.dt = p.dt;
   r.bytes_per_unit = static_cast<double>(sim.step_bytes());
   {
     RegionTimer timer;
@@ -176,21 +207,37 @@ Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Sp
   return r;
 }
 
+/// Monte Carlo: `cycles` cycles at the first load increment, or (load_steps > 0) the first
+/// `load_steps` load steps of the deck's path, each relaxed and polished as in a run.
 Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-                 long cycles) {
-  mc::Solver solver(b.default_instance(), d, s, f);
-  solver.set_load(d.load.initial_step);
+                 long cycles, long load_steps) {
+  mc::Solver solver(b, d, s, f);
   Sample r;
   r.backend = b.name();
-  r.units = cycles;
   {
     RegionTimer timer;
     const auto t0 = clock_type::now();
-    for (long c = 0; c < cycles; ++c) solver.cycle();
+    if (load_steps > 0) {
+      long done = 0;
+      solver.should_stop = [&] { return done >= load_steps; };
+      solver.run([&](const mc::StepRecord&) { ++done; });
+      if (solver.failed())
+        throw std::runtime_error("load step " + std::to_string(solver.failed_step().step) + " did not converge");
+      r.units = done;
+    } else {
+      solver.set_load(d.load.initial_step);
+      for (long c = 0; c < cycles; ++c) solver.cycle();
+      r.units = cycles;
+    }
     b.fence();
     r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
     r.phase = timer.seconds();
   }
+  const double trials = static_cast<double>(solver.model().n_free) * static_cast<double>(solver.global_cycle());
+  r.work = trials;
+  if (solver.times().rng > 0) r.random_bits = 256.0 * trials;  // a table filled by the source (not Philox in place)
+  r.bytes_per_unit = static_cast<double>(solver.cycle_bytes()) * static_cast<double>(solver.global_cycle()) /
+                     static_cast<double>(std::max(1L, r.units));
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
   r.state = x, r.state.insert(r.state.end(), y.begin(), y.end()), r.state.insert(r.state.end(), t.begin(), t.end());
@@ -207,9 +254,56 @@ std::pair<double, bool> compare(const std::vector<double>& a, const std::vector<
 
 struct BenchOptions {
   std::string deck, out = "bench", backends;
-  long steps = 200, cycles = 20;
+  std::string compare;      ///< another bench's output directory (another build, e.g. a GPU one)
+  double tolerance = 1e-6;  ///< of --compare: largest |difference| / largest |value|
+  long steps = 0, cycles = 0;  ///< 0: not given (dynamics: 200 steps; Monte Carlo: 20 cycles)
   int repeat = 3;
 };
+
+/// The state a bench leaves (the first backend's first repeat), raw doubles: what --compare reads.
+std::vector<double> read_state(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path.string() + ": cannot be read (a `nacre bench -o DIR` writes it)");
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() % sizeof(double) != 0) throw std::invalid_argument(path.string() + ": not a state file");
+  std::vector<double> v(bytes.size() / sizeof(double));
+  std::memcpy(v.data(), bytes.data(), bytes.size());
+  return v;
+}
+
+/// --compare DIR: each backend's state against another bench's (another build: a GPU, another
+/// compiler), within a relative tolerance; the bench must be the same deck and units.
+nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::ordered_json& mine,
+                                    const std::vector<std::pair<std::string, const Sample*>>& firsts, bool& within) {
+  namespace fs = std::filesystem;
+  std::ifstream jin(fs::path(o.compare) / "bench.json");
+  if (!jin) throw std::invalid_argument(o.compare + "/bench.json: cannot be read (--compare takes a bench's output directory)");
+  const auto other = nlohmann::ordered_json::parse(jin);
+  for (const char* key : {"bricks", "unit", "units_per_repeat"})
+    if (other.at(key) != mine.at(key))
+      throw std::invalid_argument("--compare " + o.compare + ": its " + key + " is " + other.at(key).dump() +
+                                  ", this bench's " + mine.at(key).dump() + " (compare the same deck and units)");
+  const std::vector<double> ref = read_state(fs::path(o.compare) / "state.bin");
+  double scale = 0;
+  for (const double x : ref) scale = std::max(scale, std::abs(x));
+  nlohmann::ordered_json c;
+  c["directory"] = o.compare;
+  c["machine"] = other.at("machine");
+  c["reference_backend"] = other.at("backends").begin().key();
+  c["tolerance"] = o.tolerance;
+  within = true;
+  for (const auto& [name, s] : firsts) {
+    const auto [diff, same] = compare(ref, s->state);
+    const double rel = scale > 0 ? diff / scale : diff;
+    const bool ok = rel <= o.tolerance;
+    within = within && ok;
+    c["backends"][name] = {{"max_difference", diff}, {"relative", rel}, {"bit_identical", same}, {"within", ok}};
+    std::printf("%-8s against %s (%s): max |diff| %.3g, relative %.3g: %s\n", name.c_str(), o.compare.c_str(),
+                c["reference_backend"].get<std::string>().c_str(), diff, rel,
+                same ? "bit-identical" : ok ? "within the tolerance" : "BEYOND the tolerance");
+  }
+  return c;
+}
 
 /// The files and the printed table: per backend its best repeat, phases, throughput, speed-up
 /// over the reference (serial where listed, else the first), fraction of its bounds, agreement.
@@ -218,7 +312,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                 const std::vector<Sample>& samples) {
   namespace fs = std::filesystem;
   fs::create_directories(o.out);
-  const char* unit = dynamic ? "step" : "cycle";
+  const std::string unit = dynamic ? "step" : o.steps > 0 ? "load_step" : "cycle";
+  const char* work = dynamic ? "brick-steps/s" : "trials/s";
   std::ostringstream csv;
   csv.precision(9);
   csv << "backend,repeat,phase,seconds,seconds_per_" << unit << ",share\n";
@@ -251,24 +346,32 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
   j["unit"] = unit;
   j["units_per_repeat"] = samples.front().units;
   j["repeats"] = o.repeat;
+  j["time_step"] = dynamic ? nlohmann::ordered_json(samples.front().dt) : nlohmann::ordered_json(nullptr);
   j["machine"] = {
       {"cpu", machine_cpu()},
       {"kokkos_version", std::to_string(KOKKOS_VERSION / 10000) + "." + std::to_string(KOKKOS_VERSION / 100 % 100) +
                              "." + std::to_string(KOKKOS_VERSION % 100)},
-      {"gpu", nullptr}};
+      {"cores", std::thread::hardware_concurrency()},
+      {"gpu", machine_gpu()}};
   j["reference_backend"] = backends[ref].name();
-  std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", (std::string("s/") + unit).c_str(),
-              (std::string("brick-") + unit + "s/s").c_str(), "speed-up", "of triad", "of FMA", "agreement");
+  std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", ("s/" + unit).c_str(), work,
+              "speed-up", "of triad", "of FMA", "agreement");
   const Sample* r0 = first(0);
   for (std::size_t k = 0; k < backends.size(); ++k) {
     const Sample* b = best(k);
     const Sample* f = first(k);
-    const double per = b->seconds / b->units, thr = double(bricks) * b->units / b->seconds;
+    const double per = b->seconds / b->units, thr = b->work / b->seconds;
     const double speedup = best(ref)->seconds / b->seconds;
-    // fraction of the bandwidth bound: the bytes a step must move (Simulation::step_bytes) at the
-    // backend's triad rate; of the FMA bound: not estimated (nacre does not count its flops)
+    // fraction of the bandwidth bound: the bytes a unit must move at least (Simulation::step_bytes,
+    // Solver::cycle_bytes) at the backend's triad rate; of the FMA bound: not estimated (nacre
+    // does not count its flops)
     const double of_triad =
-        dynamic && bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+        bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    // the uniform source's rate where it fills a table (aes-ctr, mt-aes; Philox is drawn inside the sweep)
+    const auto rng_phase = b->phase.find("nacre::mc::rng");
+    const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
+                                 ? b->random_bits / rng_phase->second / 1e9
+                                 : NAN;
     const auto [diff, same] = compare(r0->state, f->state);
     bool repeats_same = true;
     for (const auto& s : samples)
@@ -278,7 +381,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     e["threads"] = backends[k].concurrency();
     e["best_seconds"] = b->seconds;
     e["seconds_per_unit"] = per;
-    e["brick_units_per_second"] = thr;
+    e[dynamic ? "brick_steps_per_second" : "trials_per_second"] = thr;
+    e["rng_gbit_per_s"] = std::isnan(rng_gbits) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(rng_gbits);
     e["speedup_over_reference"] = speedup;
     e["triad_gb_per_s"] = bounds[k].triad_gbs;
     e["fma_gflop_per_s"] = bounds[k].fma_gflops;
@@ -292,18 +396,35 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                 backends[k].concurrency(), per, thr, speedup, 100 * of_triad, "-",
                 k == 0 ? "reference" : (same ? "bit-identical" : "DIFFERS"), diff,
                 repeats_same ? "" : "; repeats differ");
+    if (!std::isnan(rng_gbits))
+      std::printf("%-8s uniform source (%s): %.3g Gbit/s\n", "", d.solver.rng.c_str(), rng_gbits);
   }
   bool all_same = true;
   for (std::size_t k = 0; k < backends.size(); ++k)
     all_same = all_same && j["backends"][backends[k].name()]["bit_identical_to_" + backends[0].name()].get<bool>() &&
                j["backends"][backends[k].name()]["repeats_bit_identical"].get<bool>();
   j["agreement"] = all_same ? "bit-identical" : "differs";
+  const auto& state = first(0)->state;
+  io::write_file_atomic(fs::path(o.out) / "state.bin",
+                        std::string(reinterpret_cast<const char*>(state.data()), state.size() * sizeof(double)));
+  j["state_file"] = {{"name", "state.bin"}, {"values", state.size()}, {"backend", backends[0].name()}};
+  bool within = true;
+  if (!o.compare.empty()) {
+    std::vector<std::pair<std::string, const Sample*>> firsts;
+    for (std::size_t k = 0; k < backends.size(); ++k) firsts.emplace_back(backends[k].name(), first(k));
+    j["compared_to"] = compare_with(o, j, firsts, within);
+  }
   io::write_file_atomic(fs::path(o.out) / "bench.json", j.dump(2) + "\n");
   std::cout << "nacre bench: results in " << o.out << "/ (bench.csv, bench.json, bench.png)\n";
   if (!run_charts("nacre_bench_plot.py", o.out, &std::cout)) return 1;
   // nacre promises the same bits on every host backend and every repeat: anything else is a failure
   if (!all_same) {
     std::cerr << "nacre bench: error: the backends' results differ (bench.json \"agreement\")\n";
+    return 1;
+  }
+  if (!within) {
+    std::cerr << "nacre bench: error: the results differ from " << o.compare << "'s beyond the tolerance "
+              << o.tolerance << " (bench.json \"compared_to\")\n";
     return 1;
   }
   return 0;
@@ -320,16 +441,15 @@ int bench(const BenchOptions& o) {
   }
   std::vector<Backend> backends;
   for (const auto& name : names) backends.push_back(Backend::parse(name));
-  if (!dynamic && std::any_of(backends.begin(), backends.end(), [](const Backend& b) { return !b.is_default(); })) {
-    std::cerr << "nacre bench: the Monte Carlo solver runs on the default backend only in this version: benching "
-              << Backend::names().front() << " alone\n";
-    backends = {Backend{}};
-  }
   auto specimen = geometry::build_specimen(d.geometry);
   const auto interfaces = geometry::find_interfaces(specimen, d.geometry);
-  const long units = dynamic ? o.steps : o.cycles;
+  if (dynamic && o.cycles > 0) throw std::invalid_argument("--cycles applies to Monte Carlo decks; use --steps");
+  if (!dynamic && o.steps > 0 && o.cycles > 0)
+    throw std::invalid_argument("--steps (load steps) and --cycles (at the first load step) exclude each other");
+  const long units = dynamic ? (o.steps > 0 ? o.steps : 200) : o.steps > 0 ? o.steps : o.cycles > 0 ? o.cycles : 20;
   std::cout << "nacre bench: " << o.deck << ": " << specimen.size() << " bricks, "
-            << (dynamic ? "dynamics, " : "Monte Carlo, ") << units << (dynamic ? " steps" : " cycles") << " x "
+            << (dynamic ? "dynamics, " : "Monte Carlo, ") << units
+            << (dynamic ? " steps" : o.steps > 0 ? " load steps" : " cycles at the first load step") << " x "
             << o.repeat << " repeats on";
   for (const auto& b : backends) std::cout << " " << b.name() << " (" << b.concurrency() << " threads)";
   std::cout << "\n";
@@ -340,7 +460,7 @@ int bench(const BenchOptions& o) {
   for (int rep = 0; rep < o.repeat; ++rep)
     for (const auto& b : backends) {
       samples.push_back(dynamic ? run_dynamics_on(b, d, specimen, interfaces, units)
-                                : run_mc_on(b, d, specimen, interfaces, units));
+                                : run_mc_on(b, d, specimen, interfaces, units, o.steps));
       samples.back().repeat = rep;
     }
   return write_bench(o, d, specimen.size(), dynamic, backends, bounds, samples);
@@ -358,11 +478,17 @@ int bench_main(int argc, char* argv[]) {
   BenchOptions o;
   cli.add_option("deck", o.deck, "TOML input deck")->required()->check(CLI::ExistingFile);
   cli.add_option("--backends", o.backends, "comma-separated backends (default: all of `nacre --backend list`)");
-  cli.add_option("--steps", o.steps, "time steps per repeat (dynamic decks)")->check(CLI::Range(1L, 100000000L));
-  cli.add_option("--cycles", o.cycles, "Monte Carlo cycles per repeat at the first load step (rigid decks)")
+  cli.add_option("--steps", o.steps,
+                 "time steps per repeat (dynamic decks; default 200), or load steps of the path (Monte Carlo decks)")->check(CLI::Range(1L, 100000000L));
+  cli.add_option("--cycles", o.cycles, "Monte Carlo cycles per repeat at the first load step (rigid decks; default 20)")
       ->check(CLI::Range(1L, 100000000L));
   cli.add_option("--repeat", o.repeat, "repeats (each backend in turn)")->check(CLI::Range(1, 1000));
-  cli.add_option("-o,--output", o.out, "output directory (bench.csv, bench.json, bench.png)");
+  cli.add_option("-o,--output", o.out, "output directory (bench.csv, bench.json, bench.png, state.bin)");
+  cli.add_option("--compare", o.compare,
+                 "another bench's output directory (e.g. a CUDA build's): each backend's result against its state.bin")
+      ->check(CLI::ExistingDirectory);
+  cli.add_option("--tolerance", o.tolerance, "of --compare: largest |difference| over the largest |value| (default 1e-6)")
+      ->check(CLI::PositiveNumber);
   if (const int rc = parse_command_line(cli, app_args, [] {}); rc >= 0) return rc;
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;

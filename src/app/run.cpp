@@ -182,7 +182,7 @@ private:
       cp_ = validated_checkpoint(d_, opt_, specimen_.size(), n_free_);
       d_.solver.colouring = cp_->colouring;  // the run continues with the schedule it started with
     }
-    solver_.emplace(session_.backend().default_instance(), d_, specimen_, interfaces_, log_);
+    solver_.emplace(session_.backend(), d_, specimen_, interfaces_, log_);
     if (!cp_) return;
     try {
       solver_->restore(*cp_);
@@ -191,7 +191,11 @@ private:
     }
     if (log_)
       *log_ << "nacre: restarting from " << opt_.restart << " at step " << cp_->run.step << ", D = " << cp_->displacement
-            << ", cycle " << cp_->global_cycle << "\n";
+            << ", cycle " << cp_->global_cycle
+            << (!cp_->backend.empty() && cp_->backend != session_.backend().name()
+                    ? " (written on " + cp_->backend + ", continued on " + session_.backend().name() + ": the same bits)"
+                    : std::string())
+            << "\n";
   }
 
   io::Checkpoint named_checkpoint() const {
@@ -335,7 +339,7 @@ int main(int argc, char* argv[]) {
                "start afresh even where the output directory holds the checkpoint of an unfinished run");
   cli.add_option("--backend", opt.backend,
                  "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
-                 "default: Kokkos' default space. [dynamics] decks only in this version")
+                 "default: Kokkos' default space")
       ->check([](const std::string& b) {
         return Backend::canonical(b).empty()
                    ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
@@ -363,11 +367,6 @@ int main(int argc, char* argv[]) {
   }
   if (!out_override.empty()) d.output.directory = out_override;
   if (!opt.backend.empty()) opt.backend = Backend::canonical(opt.backend);  // checked above: "Serial" -> "serial"
-  if (!opt.backend.empty() && !d.dynamics.enabled && opt.backend != Backend::names().front()) {
-    std::cerr << "nacre: error: --backend " << opt.backend << ": the Monte Carlo solver runs on the default backend ("
-              << Backend::names().front() << ") in this version; --backend applies to [dynamics] decks\n";
-    return 2;
-  }
   if (critical && !d.dynamics.enabled) {
     std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
     return 2;

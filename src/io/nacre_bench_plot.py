@@ -43,17 +43,22 @@ def main():
     ax.set_ylabel(f"ms per {unit}")
     ax.set_title(f"{os.path.basename(j['deck'])}: {j['bricks']} bricks, phases by backend")
     ax.legend(fontsize=7, ncol=2)
-    thr = [j["backends"][b]["brick_units_per_second"] for b in names]
+    key = "brick_steps_per_second" if j["solver"] == "dynamics" else "trials_per_second"
+    thr = [j["backends"][b][key] for b in names]
     ax2.bar(names, thr, color="tab:blue")
     for i, b in enumerate(names):
         e = j["backends"][b]
         f = e.get("fraction_of_triad")
         note = f"x{e['speedup_over_reference']:.2f}" + (f", {100 * f:.0f}% of triad" if f else "")
+        if e.get("rng_gbit_per_s"):
+            note += f"\nrng {e['rng_gbit_per_s']:.3g} Gbit/s"
         note += "\n" + ("bit-identical" if e.get("bit_identical_to_" + names[0], False) else "DIFFERS")
         ax2.text(i, thr[i], note, ha="center", va="bottom", fontsize=8)
-    ax2.set_ylabel(f"brick-{unit}s per second")
+    ax2.set_ylabel("brick-steps per second" if j["solver"] == "dynamics" else "brick trials per second")
     ax2.set_title(f"throughput; speed-up over {j['reference_backend']}; agreement {j['agreement']}")
-    fig.suptitle(f"{j['machine']['cpu']}, Kokkos {j['machine']['kokkos_version']}", fontsize=9)
+    gpu = j["machine"].get("gpu")
+    fig.suptitle(f"{j['machine']['cpu']}" + (f", {gpu['name']}" if gpu else "") +
+                 f", Kokkos {j['machine']['kokkos_version']}", fontsize=9)
     fig.tight_layout()
     save_png(fig, os.path.join(d, "bench.png"), dpi=110)
     if not quiet:

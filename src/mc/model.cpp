@@ -8,18 +8,19 @@
 namespace nacre::mc {
 
 namespace {
-void alloc_tile_offset(const ExecSpace& space, Model<>& m, const std::vector<int>& toff) {
+template <class ExecutionSpace>
+void alloc_tile_offset(const ExecutionSpace& space, Model<>& m, const std::vector<int>& toff) {
   m.tile_offset = Kokkos::View<int*>(
       Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::tile_offset"), toff.size());
   auto h = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.tile_offset);
   for (std::size_t i = 0; i < toff.size(); ++i) h(i) = toff[i];
   Kokkos::deep_copy(space, m.tile_offset, h);
 }
-}  // namespace
 
-Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const geometry::Adjacency& adj, const Colouring& colouring,
-                    const deck::Mortar& mortar, int quadrature_points) {
+template <class ExecutionSpace>
+Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
+                       const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
+                       int quadrature_points) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::build_model");
   Model<> m;
   const int n = static_cast<int>(s.size()), ni = static_cast<int>(f.size());
@@ -157,6 +158,15 @@ Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const g
   Kokkos::deep_copy(space, m.adj_iface, hadj), Kokkos::deep_copy(space, m.phi0, hphi0);
   space.fence("nacre::mc::build_model");  // the host mirrors go out of scope
   return m;
+}
+
+}  // namespace
+
+Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
+                    int quadrature_points) {
+  return backend.visit(
+      [&](const auto& space) { return build_model_on(space, s, f, adj, colouring, mortar, quadrature_points); });
 }
 
 }  // namespace nacre::mc

@@ -37,13 +37,14 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
   const auto& m = solver.model();
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
-  const auto& space = solver.space();
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
-  Field<double> be(view_alloc(space, WithoutInitializing, "nacre::mc::brick_energy_out"), m.n_bricks);
-  Field<double> ie(view_alloc(space, WithoutInitializing, "nacre::mc::iface_energy_out"), m.n_interfaces);
-  Field<std::int8_t> is(view_alloc(space, WithoutInitializing, "nacre::mc::iface_state_out"), m.n_interfaces);
-  brick_energy(space, m, be);
-  interface_state(space, m, ie, is);
+  Field<double> be(view_alloc(WithoutInitializing, "nacre::mc::brick_energy_out"), m.n_bricks);
+  Field<double> ie(view_alloc(WithoutInitializing, "nacre::mc::iface_energy_out"), m.n_interfaces);
+  Field<std::int8_t> is(view_alloc(WithoutInitializing, "nacre::mc::iface_state_out"), m.n_interfaces);
+  solver.backend().visit([&](const auto& space) {
+    brick_energy(space, m, be);
+    interface_state(space, m, ie, is);
+  });
   auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
   auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
   auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
@@ -97,8 +98,10 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["colours"] = m.colour_offset.size() - 1;
   j["rng"] = d.solver.rng;
   j["seed"] = d.seed;
-  j["threads"] = Kokkos::DefaultExecutionSpace().concurrency();
-  j["execution_space"] = Kokkos::DefaultExecutionSpace::name();
+  const Backend backend = solver.backend();
+  j["threads"] = backend.concurrency();
+  j["execution_space"] = backend.kokkos_name();
+  j["backend"] = backend.name();
   j["steps"] = steps;
   j["cycles"] = solver.global_cycle();
   j["seconds"] = seconds;
@@ -129,6 +132,7 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.fingerprint = fingerprint;
   n.strings["solver"] = "mc";
   n.strings["colouring"] = c.colouring;
+  n.strings["backend"] = c.backend;
   n.strings["deck"] = deck_text;
   n.integers["bricks"] = static_cast<std::int64_t>(c.pose.size() / 3);
   n.integers["step"] = c.run.step;
@@ -160,6 +164,7 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   if (n.string("solver") != "mc") bad("it was written by the '" + n.string("solver") + "' solver, not by Monte Carlo");
   Checkpoint c;
   c.colouring = n.string("colouring");
+  if (n.strings.count("backend")) c.backend = n.string("backend");  // (older checkpoints: the default)
   const std::int64_t bricks = n.integer("bricks");
   if (bricks != static_cast<std::int64_t>(n_bricks))
     bad("it holds " + std::to_string(bricks) + " bricks, the deck's specimen has " + std::to_string(n_bricks));

@@ -1,4 +1,7 @@
-#include <nacre/mc/solver.hpp>
+// mc::Solver: the Monte Carlo solver's members on one execution space (SolverOn<Exec>,
+// solver_on.hpp) and the face that picks the space from the run's Backend and forwards to them.
+#include "solver_on.hpp"
+
 #include <nacre/rng/registry.hpp>
 
 #include <algorithm>
@@ -27,12 +30,14 @@ Colouring make_colouring(const std::string& name, const geometry::Specimen& s, c
 }
 }  // namespace
 
-Solver::Settings::Settings(const deck::Deck& d)
+template <class Exec>
+SolverOn<Exec>::Settings::Settings(const deck::Deck& d)
     : load(d.load), mc(d.solver), mortar(d.mortar), brick_width(d.geometry.brick_width),
       brick_height(d.geometry.brick_height), seed(d.seed), by_residual(d.solver.convergence == "residual"),
       gradient_only(d.solver.relaxation == "gradient"), polish(parse_polish_method(d.solver.polish)) {}
 
-Solver::Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log)
+template <class Exec>
+SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const Solver* owner, std::ostream* log)
     : space_(space),
       cfg_(d),
       pattern_{d.load.tension, d.load.bending, d.geometry.width},
@@ -41,11 +46,13 @@ Solver::Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log)
       step_(d.solver.step),
       rot_step_(d.solver.rot_step),
       temperature_(d.solver.temperature),
+      owner_(owner),
       log_(log) {}
 
-Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-               const geometry::Interfaces& f, std::ostream* log)
-    : Solver(space, d, log) {
+template <class Exec>
+SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
+                         const geometry::Interfaces& f, const Solver* owner, std::ostream* log)
+    : SolverOn(space, d, owner, log) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::setup");
   const auto adj = geometry::build_adjacency(s.size(), f);
   std::string chosen = d.solver.colouring;
@@ -63,21 +70,23 @@ Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Spec
 }
 
 std::string auto_colouring() {
-  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, ExecSpace::memory_space>::accessible ? "tiles" : "natural";
+  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible ? "tiles" : "natural";
 }
 
-Solver::Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-               const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c)
-    : Solver(space, d, nullptr) {
+template <class Exec>
+SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
+                         const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c)
+    : SolverOn(space, d, nullptr, nullptr) {
   setup(s, f, adj, c);
 }
 
-void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
+template <class Exec>
+void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
                    const Colouring& c) {
   source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
-  m_ = build_model(space_, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
+  m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
   allocate_work();
-  polisher_ = Polisher(space_, m_);
+  polisher_ = Polisher<Exec>(space_, m_);
   // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
   // a brick's length is the force an intact bed joint carries at its limit; a moment is that
   // force times the brick length.
@@ -96,7 +105,8 @@ void Solver::setup(const geometry::Specimen& s, const geometry::Interfaces& f, c
   E_ = energy();
 }
 
-std::string Solver::presimulate(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
+template <class Exec>
+std::string SolverOn<Exec>::presimulate(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
                                 const geometry::Interfaces& f, const geometry::Adjacency& adj,
                                 std::vector<std::pair<std::string, double>>& presim, std::ostream* log) {
   // Pre-simulation (§2.4, colouring = "fastest"): a few cycles at the first load increment with
@@ -108,7 +118,7 @@ std::string Solver::presimulate(const ExecSpace& space, const deck::Deck& d, con
   double best = std::numeric_limits<double>::max();
   for (const auto& name : colouring_strategies()) {
     const Colouring c = make_colouring(name, s, adj, free, d.seed);
-    Solver candidate(space, d, s, f, adj, c);
+    SolverOn candidate(space, d, s, f, adj, c);
     candidate.set_load(d.load.initial_step);
     candidate.cycle();  // warm-up (first touch, instantiation)
     space.fence("nacre::mc::presimulation");
@@ -132,7 +142,8 @@ std::string Solver::presimulate(const ExecSpace& space, const deck::Deck& d, con
   return presim.front().first;
 }
 
-void Solver::allocate_work() {
+template <class Exec>
+void SolverOn<Exec>::allocate_work() {
   using Kokkos::view_alloc;
   using Kokkos::WithoutInitializing;
   const auto n = static_cast<std::size_t>(m_.n_bricks), nf = static_cast<std::size_t>(m_.n_free);
@@ -161,20 +172,24 @@ void Solver::allocate_work() {
   space_.fence("nacre::mc::allocate_work");
 }
 
-void Solver::set_load(double D) {
+template <class Exec>
+void SolverOn<Exec>::set_load(double D) {
   cache_valid_ = false;
   D_ = D;
   apply_load(space_, m_, pattern_, D);
 }
 
-double Solver::energy() {
+template <class Exec>
+double SolverOn<Exec>::energy() {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
   const double e = total_energy(space_, m_, sum_ws_);
   times_.energy += timer.seconds();
   return e;
 }
 
-double Solver::reaction() {
+template <class Exec>
+double SolverOn<Exec>::reaction() {
   const double D = D_;
   const double h = 1e-6 * std::max({std::abs(D), m_.laws[geometry::JointKind::bed].x1, m_.laws[geometry::JointKind::head].x1});
   set_load(D + h);
@@ -185,14 +200,18 @@ double Solver::reaction() {
   return (ep - em) / (2 * h);
 }
 
-int Solver::ruptured() {
+template <class Exec>
+int SolverOn<Exec>::ruptured() {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
   const int r = interface_state(space_, m_, Field<double>(), Field<std::int8_t>());
   times_.energy += timer.seconds();
   return r;
 }
 
-std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
+template <class Exec>
+std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* energy) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
   Field<std::int8_t> st(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state"), m_.n_interfaces);
@@ -213,7 +232,8 @@ std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
   return out;
 }
 
-double Solver::dissipated() {
+template <class Exec>
+double SolverOn<Exec>::dissipated() {
   if (!m_.hist.data()) return 0.0;
   Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
                    m_.n_interfaces);
@@ -222,9 +242,11 @@ double Solver::dissipated() {
       space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces, KOKKOS_LAMBDA(const int i) { return en(i); });
 }
 
-bool Solver::finished() const { return run_.leg >= static_cast<int>(cfg_.load.targets().size()); }
+template <class Exec>
+bool SolverOn<Exec>::finished() const { return run_.leg >= static_cast<int>(cfg_.load.targets().size()); }
 
-double Solver::path_fraction() const {
+template <class Exec>
+double SolverOn<Exec>::path_fraction() const {
   const auto targets = cfg_.load.targets();
   double done = 0, prev = 0;
   for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
@@ -238,7 +260,9 @@ double Solver::path_fraction() const {
   return total > 0 ? std::min(1.0, done / total) : 1.0;
 }
 
-double Solver::residual() {
+template <class Exec>
+double SolverOn<Exec>::residual() {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;
   const double r = polisher_.residual(space_, m_, scale_);
   space_.fence("nacre::mc::residual");
@@ -246,7 +270,9 @@ double Solver::residual() {
   return r;
 }
 
-PolishResult Solver::polish(const std::string& method, double tolerance) {
+template <class Exec>
+PolishResult SolverOn<Exec>::polish(const std::string& method, double tolerance) {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;
   if (!method.empty()) o.method = parse_polish_method(method);
@@ -257,7 +283,8 @@ PolishResult Solver::polish(const std::string& method, double tolerance) {
   return r;
 }
 
-PolishResult Solver::anneal(const PolishOptions& o) {
+template <class Exec>
+PolishResult SolverOn<Exec>::anneal(const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_anneal");
   const auto& S = cfg_.mc;
   const long block = S.adapt_interval > 0 ? S.adapt_interval : 50;
@@ -277,7 +304,7 @@ PolishResult Solver::anneal(const PolishOptions& o) {
     auto st = own.step;
     const double s0 = step_, r0 = rot_step_;
     Kokkos::parallel_for(
-        "nacre::mc::anneal::initial_steps", Kokkos::RangePolicy<ExecSpace>(space_, 0, m_.n_free),
+        "nacre::mc::anneal::initial_steps", Kokkos::RangePolicy<Exec>(space_, 0, m_.n_free),
         KOKKOS_LAMBDA(const int b) {
           st(b, 0) = s0;
           st(b, 1) = r0;
@@ -299,7 +326,7 @@ PolishResult Solver::anneal(const PolishOptions& o) {
     r.iterations += static_cast<int>(block);
     T *= 0.5;
     r.residual = polisher_.residual(space_, m_, scale_);
-    if (should_stop && should_stop()) {  // a long anneal must not hold off SIGINT / SIGTERM
+    if (stop_requested()) {  // a long anneal must not hold off SIGINT / SIGTERM
       interrupted_ = true;
       break;
     }
@@ -315,7 +342,8 @@ PolishResult Solver::anneal(const PolishOptions& o) {
   return r;
 }
 
-long Solver::cycle() {
+template <class Exec>
+long SolverOn<Exec>::cycle() {
   Kokkos::Timer timer;
   // Philox (the default) is generated inside the sweep, brick by brick: the same numbers as its
   // table (rng::philox_uniforms), without the table pass. Other sources fill the table first.
@@ -323,7 +351,7 @@ long Solver::cycle() {
   if (!philox) {
     Kokkos::Profiling::ScopedRegion region("nacre::mc::rng");
     auto streams = Kokkos::subview(m_.id, Kokkos::make_pair(0, m_.n_free));
-    source_->fill(space_, global_cycle_, streams, u_);
+    source_->fill(Backend(space_), global_cycle_, streams, u_);
     space_.fence("nacre::mc::rng");  // the phase is timed on its own
   }
   times_.rng += timer.seconds();
@@ -373,7 +401,26 @@ long Solver::cycle() {
   return accepted;
 }
 
-long Solver::mc_phase(long budget, bool& window_converged) {
+template <class Exec>
+std::size_t SolverOn<Exec>::cycle_bytes() const {
+  // the free bricks' slots: adj_offset(n_free) (one value from the device)
+  int slots = 0;
+  Kokkos::deep_copy(space_, Kokkos::View<int, Kokkos::HostSpace>(&slots), Kokkos::subview(m_.adj_offset, m_.n_free));
+  space_.fence("nacre::mc::cycle_bytes");
+  const std::size_t nf = static_cast<std::size_t>(m_.n_free), ns = static_cast<std::size_t>(slots);
+  std::size_t b = nf * (2 * 5 * sizeof(double)                // pose read and written
+                        + sizeof(std::uint64_t) + sizeof(int)  // stream id, CSR offset
+                        + sizeof(double));                     // energy change
+  b += ns * (static_cast<std::size_t>(col(SlotCol::count)) * sizeof(double) + 2 * sizeof(int) + 1);  // slot records
+  b += static_cast<std::size_t>(m_.n_interfaces) * 2 * sizeof(double);  // energy cache read and written
+  if (u_.data()) b += nf * 4 * sizeof(double);                          // uniforms table
+  if (brick_steps_.active()) b += nf * 2 * (2 * sizeof(double) + sizeof(int));
+  if (m_.hist.data()) b += m_.hist.span() * sizeof(double);
+  return b;
+}
+
+template <class Exec>
+long SolverOn<Exec>::mc_phase(long budget, bool& window_converged) {
   // Monte Carlo until the window test passes (or the budget / the backtracking limit is spent)
   const auto& S = cfg_.mc;
   monitor_.reset();
@@ -390,9 +437,9 @@ long Solver::mc_phase(long budget, bool& window_converged) {
       window_converged = true;
       break;
     }
-    if (on_progress) on_progress(c, E_);  // every cycle: the caller throttles by time
+    report_progress(c, E_);  // every cycle: the caller throttles by time
     if (cycle_limit_ > 0 && c >= cycle_limit_) break;
-    if (should_stop && should_stop()) {
+    if (stop_requested()) {
       interrupted_ = true;
       break;
     }
@@ -400,7 +447,8 @@ long Solver::mc_phase(long budget, bool& window_converged) {
   return c;
 }
 
-long Solver::relax(bool& converged) {
+template <class Exec>
+long SolverOn<Exec>::relax(bool& converged) {
   // convergence = "window": one Monte Carlo phase ended by the window test, then the polish (if
   // any); the residual is reported. convergence = "residual": Monte Carlo phase + polish until
   // the residual is below the tolerance; a polish that stalls (e.g. in a metastable state) gets
@@ -443,14 +491,16 @@ long Solver::relax(bool& converged) {
   return c;
 }
 
-void Solver::predict(double ratio) {
+template <class Exec>
+void SolverOn<Exec>::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
   brick_energy(space_, m_, phi_);
   cache_valid_ = false;
   predict_poses(space_, m_, prev_pose_, phi_, ratio);
 }
 
-void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
+template <class Exec>
+void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::run");
   const auto& L = cfg_.load;
   const auto& S = cfg_.mc;
@@ -486,7 +536,7 @@ void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
   if (L.programme.empty()) run_.leg = 0;
   next_legs();  // (a checkpoint taken on a target)
   while (run_.leg < n_legs) {
-    if (should_stop && should_stop()) {
+    if (stop_requested()) {
       interrupted_ = true;
       return;
     }
@@ -610,9 +660,11 @@ void from_original_order(const std::vector<double>& in, const std::vector<int>& 
 }
 }  // namespace
 
-Checkpoint Solver::checkpoint() const {
+template <class Exec>
+Checkpoint SolverOn<Exec>::checkpoint() const {
   Checkpoint c;
   c.colouring = m_.colouring_name;
+  c.backend = Backend(space_).name();
   c.run = run_;
   c.displacement = D_;
   c.step_size = step_;
@@ -643,7 +695,8 @@ Checkpoint Solver::checkpoint() const {
   return c;
 }
 
-void Solver::restore(const Checkpoint& c) {
+template <class Exec>
+void SolverOn<Exec>::restore(const Checkpoint& c) {
   if (c.colouring != m_.colouring_name)
     throw std::runtime_error("checkpoint was made with colouring '" + c.colouring + "', solver uses '" +
                              m_.colouring_name + "'");
@@ -690,10 +743,128 @@ void Solver::restore(const Checkpoint& c) {
   E_ = energy();
 }
 
-void Solver::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
+template <class Exec>
+void SolverOn<Exec>::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
   const std::vector<double> p = to_original_order(m_.pose, m_.perm);
   x.resize(m_.n_bricks), y.resize(m_.n_bricks), t.resize(m_.n_bricks);
   for (int i = 0; i < m_.n_bricks; ++i) x[i] = p[3 * i], y[i] = p[3 * i + 1], t[i] = p[3 * i + 2];
+}
+
+// ---- the face: the backend picks the space once; every member forwards to SolverOn<space>
+
+Solver::Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s,
+               const geometry::Interfaces& f, std::ostream* log) {
+  backend.visit([&](const auto& space) {
+    using Exec = std::decay_t<decltype(space)>;
+    impl_ = std::make_unique<SolverOn<Exec>>(space, d, s, f, this, log);
+  });
+}
+
+Solver::~Solver() = default;
+
+template <class F>
+decltype(auto) Solver::on(F&& f) const {
+  return std::visit([&](const auto& impl) -> decltype(auto) { return f(*impl); }, impl_);
+}
+
+Backend Solver::backend() const {
+  return on([](const auto& s) { return Backend(s.space()); });
+}
+const Model<>& Solver::model() const {
+  return on([](const auto& s) -> const Model<>& { return s.model(); });
+}
+const std::vector<std::pair<std::string, double>>& Solver::presim() const {
+  return on([](const auto& s) -> const auto& { return s.presim(); });
+}
+void Solver::set_load(double D) {
+  on([&](auto& s) { s.set_load(D); });
+}
+double Solver::load() const {
+  return on([](const auto& s) { return s.load(); });
+}
+double Solver::energy() {
+  return on([](auto& s) { return s.energy(); });
+}
+double Solver::reaction() {
+  return on([](auto& s) { return s.reaction(); });
+}
+int Solver::ruptured() {
+  return on([](auto& s) { return s.ruptured(); });
+}
+std::vector<std::int8_t> Solver::interface_states(std::vector<double>* energy) {
+  return on([&](auto& s) { return s.interface_states(energy); });
+}
+double Solver::residual() {
+  return on([](auto& s) { return s.residual(); });
+}
+PolishResult Solver::polish(const std::string& method, double tolerance) {
+  return on([&](auto& s) { return s.polish(method, tolerance); });
+}
+PolishResult Solver::anneal(const PolishOptions& o) {
+  return on([&](auto& s) { return s.anneal(o); });
+}
+const ResidualScale& Solver::residual_scale() const {
+  return on([](const auto& s) -> const ResidualScale& { return s.residual_scale(); });
+}
+const GradientView<>& Solver::gradient() const {
+  return on([](const auto& s) -> const GradientView<>& { return s.gradient(); });
+}
+long Solver::cycle() {
+  return on([](auto& s) { return s.cycle(); });
+}
+std::size_t Solver::cycle_bytes() const {
+  return on([](const auto& s) { return s.cycle_bytes(); });
+}
+long Solver::relax(bool& converged) {
+  return on([&](auto& s) { return s.relax(converged); });
+}
+void Solver::run(const std::function<void(const StepRecord&)>& on_step) {
+  on([&](auto& s) { s.run(on_step); });
+}
+Checkpoint Solver::checkpoint() const {
+  return on([](const auto& s) { return s.checkpoint(); });
+}
+void Solver::restore(const Checkpoint& c) {
+  on([&](auto& s) { s.restore(c); });
+}
+const RunState& Solver::run_state() const {
+  return on([](const auto& s) -> const RunState& { return s.run_state(); });
+}
+bool Solver::finished() const {
+  return on([](const auto& s) { return s.finished(); });
+}
+double Solver::path_fraction() const {
+  return on([](const auto& s) { return s.path_fraction(); });
+}
+double Solver::dissipated() {
+  return on([](auto& s) { return s.dissipated(); });
+}
+bool Solver::interrupted() const {
+  return on([](const auto& s) { return s.interrupted(); });
+}
+bool Solver::failed() const {
+  return on([](const auto& s) { return s.failed(); });
+}
+const StepRecord& Solver::failed_step() const {
+  return on([](const auto& s) -> const StepRecord& { return s.failed_step(); });
+}
+const PhaseTimes& Solver::times() const {
+  return on([](const auto& s) -> const PhaseTimes& { return s.times(); });
+}
+double Solver::step_size() const {
+  return on([](const auto& s) { return s.step_size(); });
+}
+double Solver::rot_step() const {
+  return on([](const auto& s) { return s.rot_step(); });
+}
+std::uint64_t Solver::global_cycle() const {
+  return on([](const auto& s) { return s.global_cycle(); });
+}
+double Solver::tracked_energy() const {
+  return on([](const auto& s) { return s.tracked_energy(); });
+}
+void Solver::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
+  on([&](const auto& s) { s.poses(x, y, t); });
 }
 
 }  // namespace nacre::mc

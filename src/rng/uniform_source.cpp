@@ -3,9 +3,9 @@
 
 namespace nacre::rng {
 
-void PhiloxSource::fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
+void PhiloxSource::fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
-  philox_fill(space, seed_, draw, streams, u);
+  backend.visit([&](const auto& space) { philox_fill(space, seed_, draw, streams, u); });
 }
 
 }  // namespace nacre::rng

@@ -4,14 +4,18 @@
 #  2. the small dynamic deck, BE and BIE, run on every listed backend: series.csv identical in
 #     every column but seconds (nacre promises the same bits on every host backend), and
 #     summary.json names the backend it ran on;
-#  3. an unknown backend is refused (exit 2) naming the enabled ones, and a Monte Carlo deck on a
-#     backend other than the default is refused (the rigid family runs on the default one);
+#  3. an unknown backend is refused (exit 2) naming the enabled ones; the small Monte Carlo deck
+#     runs on every listed backend with the same steps.csv (but seconds), and a Monte Carlo run
+#     stopped half-way on the first backend continues on the last one to the direct run's rows;
 #  4. a run stopped half-way on the first backend, continued on the last one (--restart --extend)
 #     gives the direct run's series (every column but seconds): the checkpoint moves between
 #     backends of one build, and records the one it was written on;
-#  5. `nacre bench` on the small BE deck (every backend) and the small Monte Carlo deck: bench.csv,
+#  5. `nacre bench` on the small BE deck and the small Monte Carlo deck (cycles, and load steps
+#     with the AES-CTR source), every backend: bench.csv,
 #     bench.json and bench.png written, every backend timed with its phases (the solver's regions),
-#     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2.
+#     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2;
+#     --compare against another bench's state: the same state passes, another seed fails (exit 1)
+#     beyond a tight tolerance, another deck is refused (exit 2).
 #   run_backend_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -67,35 +71,74 @@ else
   bad "--backend ${first^^}: $(tail -2 upper.txt)"
 fi
 expect 2 "not a backend of this build; expected one of" "$exe" "$src/tests/app/tiny_dynamic.toml" --backend no-such-backend -o unknown
-if [ "${#backends[@]}" -ge 2 ]; then
-  expect 2 "Monte Carlo solver runs on the default backend" "$exe" "$src/tests/app/tiny.toml" --backend "${backends[1]}" -o mc_other
+# the Monte Carlo family on every backend: the same rows; a run moved between backends half-way
+for b in "${backends[@]}"; do
+  "$exe" "$src/tests/app/tiny.toml" --backend "$b" -o "mc_$b" -q > "mc_$b.txt" 2>&1 || bad "tiny.toml on $b: $(tail -3 "mc_$b.txt")"
+done
+sed 's/^final_displacement = 0.012/final_displacement = 0.008/' "$src/tests/app/tiny.toml" > mc_half.toml
+if "$exe" mc_half.toml --backend "$first" -o mc_moved -q > mc_half.txt 2>&1 &&
+   "$exe" "$src/tests/app/tiny.toml" --backend "$last" -o mc_moved --restart mc_moved/checkpoint.h5 --extend > mc_moved.txt 2>&1; then
+  python3 - "${backends[@]}" <<'PY' && ok "Monte Carlo: the same rows on ${backends[*]}, and moved from $first to $last" || bad "Monte Carlo across backends"
+import csv, json, sys
+backends = sys.argv[1:]
+strip = lambda f: [{k: v for k, v in r.items() if k != "seconds"} for r in csv.DictReader(open(f))]
+ref = strip(f"mc_{backends[0]}/steps.csv")
+assert len(ref) >= 3
+for b in backends:
+    s = json.load(open(f"mc_{b}/summary.json"))
+    assert s["backend"] == b and s["execution_space"].lower() == b, (b, s["backend"], s["execution_space"])
+    assert strip(f"mc_{b}/steps.csv") == ref, f"{b} differs from {backends[0]}"
+assert strip("mc_moved/steps.csv") == ref, "the moved run's rows differ"
+assert json.load(open("mc_moved/summary.json"))["backend"] == backends[-1]
+PY
+  grep -q "restarting from" mc_moved.txt || bad "no restart line in the Monte Carlo log"
 else
-  ok "one backend in this build: the Monte Carlo refusal of another needs two"
+  bad "Monte Carlo half run or restart failed: $(tail -3 mc_half.txt mc_moved.txt)"
 fi
+sed 's/^seed = 5/seed = 5\ngenerator = "aes-ctr"/' "$src/tests/app/tiny.toml" > tiny_aes.toml
 if "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 2 -o bench_dyn > bench_dyn.txt 2>&1 &&
-   "$exe" bench "$src/tests/app/tiny.toml" --cycles 5 --repeat 2 -o bench_mc > bench_mc.txt 2>&1; then
+   "$exe" bench "$src/tests/app/tiny.toml" --cycles 5 --repeat 2 -o bench_mc > bench_mc.txt 2>&1 &&
+   "$exe" bench tiny_aes.toml --steps 2 --repeat 2 -o bench_aes > bench_aes.txt 2>&1; then
   python3 - "${backends[@]}" <<'PY' && ok "bench: files, phases, bounds and agreement on ${backends[*]}" || bad "bench outputs"
 import csv, json, os, sys
 backends = sys.argv[1:]
-for out, solver, phase in (("bench_dyn", "dynamics", "nacre::dyn::interface_force"), ("bench_mc", "monte-carlo", None)):
+for out, solver, phase in (("bench_dyn", "dynamics", "nacre::dyn::interface_force"),
+                           ("bench_mc", "monte-carlo", "nacre::mc::sweep"), ("bench_aes", "monte-carlo", "nacre::mc::polish")):
     for f in ("bench.csv", "bench.json", "bench.png"):
         assert os.path.getsize(f"{out}/{f}") > 0, (out, f)
     j = json.load(open(f"{out}/bench.json"))
     assert j["solver"] == solver and j["agreement"] == "bit-identical", (out, j["agreement"])
-    listed = backends if solver == "dynamics" else backends[:1]
+    listed = backends
     assert list(j["backends"]) == listed, (out, list(j["backends"]))
+    assert j["unit"] == {"bench_dyn": "step", "bench_mc": "cycle", "bench_aes": "load_step"}[out], j["unit"]
     for b, e in j["backends"].items():
         assert e["triad_gb_per_s"] > 0 and e["fma_gflop_per_s"] > 0 and e["seconds_per_unit"] > 0, e
+        assert 0 < e["fraction_of_triad"] < 10 and e["bytes_per_unit"] > 0, e
+        # the uniform source's rate where it fills a table (AES-CTR), none for Philox in the sweep
+        assert (e["rng_gbit_per_s"] is not None and e["rng_gbit_per_s"] > 0) == (out == "bench_aes"), e
         assert e["repeats_bit_identical"], b
         assert e["phases"] and (phase is None or e["phases"][phase] > 0), e["phases"]
-        assert sum(v for k, v in e["phases"].items() if k != "nacre::dyn::advance") <= 1.5 * e["seconds_per_unit"] + 1e-4
+        # each phase (an inclusive region: nested ones repeat their parts) lies within the total
+        assert max(e["phases"].values()) <= 1.05 * e["seconds_per_unit"] + 1e-4, e["phases"]
     rows = list(csv.DictReader(open(f"{out}/bench.csv")))
     assert {r["backend"] for r in rows} == set(listed) and {r["repeat"] for r in rows} == {"0", "1"}
 PY
 else
-  bad "nacre bench failed: $(tail -3 bench_dyn.txt bench_mc.txt)"
+  bad "nacre bench failed: $(tail -3 bench_dyn.txt bench_mc.txt bench_aes.txt)"
 fi
 expect 2 "not one this build can run" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --backends no-such -o bench_bad
+# --compare: another bench's state (here this build's own, on the last backend: bit-identical);
+# another seed differs (beyond a tolerance of 1e-300: exit 1); another deck is refused (exit 2)
+if "$exe" bench tiny_aes.toml --steps 2 --repeat 1 --backends "$last" --compare bench_aes -o bench_cmp > bench_cmp.txt 2>&1 &&
+   grep -q "bit-identical" bench_cmp.txt &&
+   python3 -c "import json,sys; c=json.load(open('bench_cmp/bench.json'))['compared_to']; sys.exit(not c['backends']['$last']['within'])"; then
+  ok "bench --compare: the same state on $last as bench_aes's"
+else
+  bad "bench --compare: $(tail -3 bench_cmp.txt)"
+fi
+sed 's/^seed = 5/seed = 6/' tiny_aes.toml > tiny_aes6.toml
+expect 1 "beyond the tolerance" "$exe" bench tiny_aes6.toml --steps 2 --repeat 1 --compare bench_aes --tolerance 1e-300 -o bench_cmp6
+expect 2 "compare the same deck and units" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 5 --repeat 1 --compare bench_aes -o bench_cmp_dyn
 
 [ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
 echo "all backend checks passed"

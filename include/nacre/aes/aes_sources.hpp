@@ -49,7 +49,7 @@ public:
   explicit AesCtrSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "aes-ctr"; }
   using rng::UniformSource::fill;
-  void fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
   /// \brief The raw 128-bit blocks behind fill (tests, dieharder).
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
 
@@ -75,7 +75,7 @@ public:
   explicit MtAesSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "mt-aes"; }
   using rng::UniformSource::fill;
-  void fill(const ExecSpace& space, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
   /// \brief The raw AES output behind fill.
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
   /// \brief The MT plaintexts before whitening (with the q tweak): raw MT for streams < 1024.

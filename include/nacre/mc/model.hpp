@@ -5,6 +5,7 @@
 #include <nacre/cohesive/law_table.hpp>
 #include <nacre/cohesive/quadrature.hpp>
 #include <nacre/kinematics/rigid.hpp>
+#include <nacre/core/backend.hpp>
 #include <nacre/core/types.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/mc/colouring.hpp>
@@ -88,10 +89,17 @@ struct Model {
 };
 
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
-/// and uploads everything with `space` (fenced before returning). Poses start at zero.
-Model<> build_model(const ExecSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
+/// and uploads everything on the backend's instance (fenced before returning). Poses start at zero.
+Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring,
                     const deck::Mortar& mortar, int quadrature_points);
+/// \brief The same on an instance of an enabled space (the kernels' calling convention).
+template <class ExecutionSpace, class = std::enable_if_t<Kokkos::is_execution_space_v<ExecutionSpace>>>
+Model<> build_model(const ExecutionSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
+                    const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
+                    int quadrature_points) {
+  return build_model(Backend(space), s, f, adj, colouring, mortar, quadrature_points);
+}
 
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>

@@ -3,6 +3,7 @@
 /// \brief Quasi-static rigid-brick solver: load increments, each relaxed by colour-parallel
 /// Metropolis sweeps until the sliding-window test converges (Chapter 2, MODEL.md §3), with the
 /// adaptive step size, adaptive displacement and position predictor of §2.2.
+#include <nacre/core/backend.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/mc/convergence.hpp>
 #include <nacre/mc/kernels.hpp>
@@ -13,6 +14,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <variant>
 
 namespace nacre::mc {
 
@@ -47,6 +49,7 @@ struct RunState {
 /// \brief Everything a checkpoint holds: restarting from it continues the run bit for bit.
 struct Checkpoint {
   std::string colouring;
+  std::string backend;  ///< where it was written (a restart may continue on any backend of the build: the same bits)
   RunState run;
   double displacement = 0, step_size = 0, rot_step = 0;
   std::uint64_t global_cycle = 0;
@@ -63,29 +66,48 @@ struct PhaseTimes {
   double rng = 0, sweep = 0, energy = 0, other = 0, polish = 0;
 };
 
-/// \brief The Monte Carlo solver on one execution-space instance: every kernel, allocation and
-/// copy of the run goes through `space()`, the uniform source's batches included.
+template <class Exec>
+class SolverOn;
+
+namespace detail {
+template <class Spaces>
+struct SolverImpls;
+template <class... Spaces>
+struct SolverImpls<std::variant<Spaces...>> {
+  using type = std::variant<std::unique_ptr<SolverOn<Spaces>>...>;
+};
+}  // namespace detail
+
+/// \brief The Monte Carlo solver on a run's backend: the backend picks, once, the execution space
+/// the whole solver is built for (SolverOn<Exec>, src/mc/solver_on.hpp), and every kernel,
+/// allocation and copy of the run (the uniform source's batches, the polish) goes to its
+/// instance. The same bits on every backend of a build (tests/test_backends.cpp).
 class Solver {
 public:
   /// \brief Colours the bricks (running the pre-simulation when colouring = "fastest") and uploads
   /// the model. `log` gets one line per decision (may be null).
-  Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-         const geometry::Interfaces& f, std::ostream* log = nullptr);
-  /// \brief The same on a default instance of the default execution space.
+  Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+         std::ostream* log = nullptr);
+  /// \brief The same on the default backend.
   Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log = nullptr)
-      : Solver(ExecSpace{}, d, s, f, log) {}
+      : Solver(Backend{}, d, s, f, log) {}
+  ~Solver();
+  // the implementation calls back into on_progress / should_stop of this object: it stays put
+  Solver(const Solver&) = delete;
+  Solver& operator=(const Solver&) = delete;
 
-  [[nodiscard]] const ExecSpace& space() const { return space_; }
+  /// \brief The backend the solver runs on.
+  [[nodiscard]] Backend backend() const;
 
-  [[nodiscard]] const Model<>& model() const { return m_; }
+  [[nodiscard]] const Model<>& model() const;
   /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
   /// unless the deck asked for colouring = "fastest".
-  [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
+  [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const;
 
   /// \brief Move the driven bricks to load D (free bricks stay).
   void set_load(double D);
-  [[nodiscard]] double load() const { return D_; }
+  [[nodiscard]] double load() const;
   /// \brief Exact total energy (a reduction over all interfaces).
   double energy();
   /// \brief Generalised reaction dE/dD at fixed free bricks (central difference).
@@ -112,12 +134,16 @@ public:
   /// every block: true ends the anneal unconverged with interrupted() set.
   PolishResult anneal(const PolishOptions& o);
   /// \brief The scales the residual is measured against.
-  [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
+  [[nodiscard]] const ResidualScale& residual_scale() const;
   /// \brief Exact gradient per free brick after residual() or polish() (sweep order).
-  [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
+  [[nodiscard]] const GradientView<>& gradient() const;
 
   /// \brief One MC cycle (RNG batch + every colour once); returns accepted trials.
   long cycle();
+  /// \brief Bytes one cycle must move at least (each array the sweep streams read once, the
+  /// written ones twice: poses, slot records, energy cache, uniforms, per-brick steps, history),
+  /// the numerator of `nacre bench`'s fraction of the triad bound.
+  [[nodiscard]] std::size_t cycle_bytes() const;
   /// \brief Relax at the current load until converged or max_cycles; returns cycles done.
   long relax(bool& converged);
   /// \brief Apply the (rest of the) loading programme of the deck; calls on_step after each
@@ -128,7 +154,7 @@ public:
   [[nodiscard]] Checkpoint checkpoint() const;
   /// \brief Continue from a checkpoint (the solver must have been built with its colouring).
   void restore(const Checkpoint& c);
-  [[nodiscard]] const RunState& run_state() const { return run_; }
+  [[nodiscard]] const RunState& run_state() const;
   /// \brief The run has reached the programme's last target (nothing left for run()).
   [[nodiscard]] bool finished() const;
   /// \brief Fraction of the load path travelled (progress): 0 at the start, 1 at the end.
@@ -143,94 +169,31 @@ public:
   /// progress and returns from run() with interrupted() set. The state is then mid-step: resume
   /// from a checkpoint taken after the last completed step.
   std::function<bool()> should_stop;
-  [[nodiscard]] bool interrupted() const { return interrupted_; }
+  [[nodiscard]] bool interrupted() const;
   /// \brief With convergence = "residual": a load step did not reach the tolerance within
   /// max_cycles (after any backtracking); run() returned without completing it, failed_step()
   /// describes it. The poses are mid-step; the last completed step's checkpoint is the good state.
-  [[nodiscard]] bool failed() const { return failed_; }
-  [[nodiscard]] const StepRecord& failed_step() const { return failed_step_; }
+  [[nodiscard]] bool failed() const;
+  [[nodiscard]] const StepRecord& failed_step() const;
   /// \brief Largest step residual of the run (restarts included: kept in the checkpoint).
-  [[nodiscard]] double max_step_residual() const { return run_.max_residual; }
+  [[nodiscard]] double max_step_residual() const { return run_state().max_residual; }
   /// \brief Polish iterations of the run's completed steps (restarts included).
-  [[nodiscard]] long polish_iterations_total() const { return run_.polish_iterations; }
+  [[nodiscard]] long polish_iterations_total() const { return run_state().polish_iterations; }
 
-  [[nodiscard]] const PhaseTimes& times() const { return times_; }
-  [[nodiscard]] double step_size() const { return step_; }
-  [[nodiscard]] double rot_step() const { return rot_step_; }
-  [[nodiscard]] std::uint64_t global_cycle() const { return global_cycle_; }
-  [[nodiscard]] double tracked_energy() const { return E_; }
+  [[nodiscard]] const PhaseTimes& times() const;
+  [[nodiscard]] double step_size() const;
+  [[nodiscard]] double rot_step() const;
+  [[nodiscard]] std::uint64_t global_cycle() const;
+  [[nodiscard]] double tracked_energy() const;
 
   /// \brief Host copies of the poses, in original brick order (for output and tests).
   void poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const;
 
 private:
-  /// What both public constructors start from: the deck's parameters, no model yet.
-  Solver(const ExecSpace& space, const deck::Deck& d, std::ostream* log);
-  /// \brief A solver on a given colouring (a pre-simulation candidate).
-  Solver(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-         const geometry::Interfaces& f, const geometry::Adjacency& adj, const Colouring& c);
-  /// \brief The pre-simulation (§2.4): each candidate colouring gets a fresh solver, timed for a
-  /// few cycles and thrown away; returns the colouring to use, appends timings to `presim`.
-  static std::string presimulate(const ExecSpace& space, const deck::Deck& d, const geometry::Specimen& s,
-                                 const geometry::Interfaces& f, const geometry::Adjacency& adj,
-                                 std::vector<std::pair<std::string, double>>& presim, std::ostream* log);
-  void setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
-             const Colouring& c);
-  void allocate_work();
-  void predict(double ratio);
-  long mc_phase(long budget, bool& window_converged);
-
-  /// What the solver reads of the deck, kept from construction (the sections it needs, not the
-  /// deck's text and key table), with the run-time choices parsed once: no string compares in
-  /// the loops.
-  struct Settings {
-    deck::Load load;
-    deck::MonteCarlo mc;
-    deck::Mortar mortar;
-    double brick_width = 0, brick_height = 0;
-    std::uint64_t seed = 1;
-    bool by_residual = true;     ///< convergence = "residual" (else "window")
-    bool gradient_only = false;  ///< relaxation = "gradient"
-    PolishMethod polish = PolishMethod::fire;
-    explicit Settings(const deck::Deck& d);
-  };
-
-  ExecSpace space_;
-  Settings cfg_;
-  Model<> m_;
-  loading::Pattern pattern_;
-  std::unique_ptr<rng::UniformSource> source_;
-  rng::UniformTable<> u_;
-  SumWorkspace<> sum_ws_;
-  Field<double> de_;  ///< accepted energy change per free brick in the current cycle
-  /// Each interface's energy at the current poses (the sweep's cache, kernels.hpp); valid only
-  /// while cache_valid_: every pose change outside the sweep clears the flag, cycle() refills.
-  Field<double> iface_energy_;
-  bool cache_valid_ = false;
-  BrickSteps<> brick_steps_;  ///< step_mode = "per-brick" only
-  Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
-  Field<double> phi_;
-  ConvergenceMonitor monitor_;
-  std::vector<std::pair<std::string, double>> presim_;
-  PhaseTimes times_;
-  double D_ = 0, E_ = 0, step_, rot_step_;
-  double temperature_;        ///< of the sweep: the deck's TEMP, lower while anneal() runs
-  double step_floor_ = 1.0;   ///< factor on the per-brick steps' floors (1e-6 while anneal() runs)
-  double acceptance_target_ = 0.5;  ///< of the per-brick step adaptation (eq. 2.7: 0.5; 0.2 while anneal() runs)
-  long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
-  long accepted_total_ = 0, trials_total_ = 0;
-  long cycle_limit_ = 0;
-  RunState run_;  ///< > 0: relax() gives up after this many cycles (backtracking)
-  std::uint64_t global_cycle_ = 0;
-  bool interrupted_ = false;
-  Polisher polisher_;
-  ResidualScale scale_;
-  PolishOptions polish_options_;
-  double residual_ = 0;   ///< of the last relax()
-  long step_polish_ = 0;  ///< polish iterations of the last relax()
-  bool failed_ = false;
-  StepRecord failed_step_;
-  std::ostream* log_;
+  /// f(the implementation): every member above forwards through here.
+  template <class F>
+  decltype(auto) on(F&& f) const;
+  typename detail::SolverImpls<AnySpace>::type impl_;
 };
 
 /// \brief The colouring that colouring = "auto" stands for on this build: "tiles" when the

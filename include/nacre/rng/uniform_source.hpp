@@ -7,6 +7,7 @@
 /// so the numbers do not depend on storage order, colouring, thread count or backend) at one
 /// draw index (the global cycle number). Batching lets table-free generators such as bitsliced
 /// AES work on many blocks at once; it also makes the RNG a separately timed phase (Fig. 2.12).
+#include <nacre/core/backend.hpp>
 #include <nacre/core/types.hpp>
 #include <nacre/rng/philox.hpp>
 
@@ -59,12 +60,13 @@ public:
   /// \brief Name used in decks and outputs ("philox", "aes-ctr", "mt-aes").
   [[nodiscard]] virtual std::string name() const = 0;
   /// \brief Fill u(i, 0..3) with the uniforms of stream streams(i) at draw index `draw`, on
-  /// `space` (asynchronous: fence `space` before reading u elsewhere).
+  /// the backend's instance (asynchronous: fence it before reading u elsewhere); the same bits
+  /// on every backend.
   /// Sources may be stateful (mt-aes) and then require draws to be requested in increasing order
   /// (a repeated draw index is answered identically).
-  virtual void fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
-  /// \brief The same on a default instance of the default execution space.
-  void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) { fill(ExecSpace{}, draw, streams, u); }
+  virtual void fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
+  /// \brief The same on the default backend.
+  void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) { fill(Backend{}, draw, streams, u); }
 };
 
 /// (The generators a deck can name, Philox and the AES ones, are listed by rng/registry.hpp: this
@@ -92,7 +94,7 @@ public:
   explicit PhiloxSource(std::uint64_t seed) : seed_(seed) {}
   [[nodiscard]] std::string name() const override { return "philox"; }
   using UniformSource::fill;
-  void fill(const ExecSpace& space, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
   /// \brief The key (for callers that generate the same numbers in place: philox_uniforms).
   [[nodiscard]] std::uint64_t seed() const { return seed_; }
 

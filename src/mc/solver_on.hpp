@@ -1,0 +1,132 @@
+#pragma once
+// The Monte Carlo solver on one execution space: mc::Solver (include/nacre/mc/solver.hpp) is its
+// face, picks the space once from the run's Backend and forwards every call here.
+//
+// Why a template to the top: every kernel, allocation and copy of a run (the sweep, the energy
+// reductions, the uniform source's batches, the polish, the anneal) launches on `space_` with its
+// own type, so a build with Serial and OpenMP (or CUDA) runs either from one binary and the
+// loops carry no per-launch dispatch. The members mirror Solver's; solver.hpp documents them.
+#include <nacre/mc/solver.hpp>
+
+namespace nacre::mc {
+
+template <class Exec>
+class SolverOn {
+  static_assert(Kokkos::SpaceAccessibility<Exec, MemSpace>::accessible,
+                "mc::SolverOn: the execution space must reach the model's memory space");
+
+public:
+  /// `owner` (may be null: a pre-simulation candidate) is the face whose on_progress and
+  /// should_stop hooks the loops call.
+  SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+           const Solver* owner, std::ostream* log);
+
+  [[nodiscard]] const Exec& space() const { return space_; }
+  [[nodiscard]] const Model<>& model() const { return m_; }
+  [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
+  void set_load(double D);
+  [[nodiscard]] double load() const { return D_; }
+  double energy();
+  double reaction();
+  int ruptured();
+  [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
+  double residual();
+  PolishResult polish(const std::string& method = "", double tolerance = 0);
+  PolishResult anneal(const PolishOptions& o);
+  [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
+  [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
+  long cycle();
+  [[nodiscard]] std::size_t cycle_bytes() const;
+  long relax(bool& converged);
+  void run(const std::function<void(const StepRecord&)>& on_step);
+  [[nodiscard]] Checkpoint checkpoint() const;
+  void restore(const Checkpoint& c);
+  [[nodiscard]] const RunState& run_state() const { return run_; }
+  [[nodiscard]] bool finished() const;
+  [[nodiscard]] double path_fraction() const;
+  double dissipated();
+  [[nodiscard]] bool interrupted() const { return interrupted_; }
+  [[nodiscard]] bool failed() const { return failed_; }
+  [[nodiscard]] const StepRecord& failed_step() const { return failed_step_; }
+  [[nodiscard]] const PhaseTimes& times() const { return times_; }
+  [[nodiscard]] double step_size() const { return step_; }
+  [[nodiscard]] double rot_step() const { return rot_step_; }
+  [[nodiscard]] std::uint64_t global_cycle() const { return global_cycle_; }
+  [[nodiscard]] double tracked_energy() const { return E_; }
+  void poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const;
+
+private:
+  /// What both constructors start from: the deck's parameters, no model yet.
+  SolverOn(const Exec& space, const deck::Deck& d, const Solver* owner, std::ostream* log);
+  /// A solver on a given colouring (a pre-simulation candidate).
+  SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+           const geometry::Adjacency& adj, const Colouring& c);
+  static std::string presimulate(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
+                                 const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                 std::vector<std::pair<std::string, double>>& presim, std::ostream* log);
+  void setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
+             const Colouring& c);
+  void allocate_work();
+  void predict(double ratio);
+  long mc_phase(long budget, bool& window_converged);
+  /// The face's hooks (none for a pre-simulation candidate).
+  [[nodiscard]] bool stop_requested() const { return owner_ && owner_->should_stop && owner_->should_stop(); }
+  void report_progress(long cycles, double energy) const {
+    if (owner_ && owner_->on_progress) owner_->on_progress(cycles, energy);
+  }
+
+  /// What the solver reads of the deck, kept from construction (the sections it needs, not the
+  /// deck's text and key table), with the run-time choices parsed once: no string compares in
+  /// the loops.
+  struct Settings {
+    deck::Load load;
+    deck::MonteCarlo mc;
+    deck::Mortar mortar;
+    double brick_width = 0, brick_height = 0;
+    std::uint64_t seed = 1;
+    bool by_residual = true;     ///< convergence = "residual" (else "window")
+    bool gradient_only = false;  ///< relaxation = "gradient"
+    PolishMethod polish = PolishMethod::fire;
+    explicit Settings(const deck::Deck& d);
+  };
+
+  Exec space_;
+  Settings cfg_;
+  Model<> m_;
+  loading::Pattern pattern_;
+  std::unique_ptr<rng::UniformSource> source_;
+  rng::UniformTable<> u_;
+  SumWorkspace<> sum_ws_;
+  Field<double> de_;  ///< accepted energy change per free brick in the current cycle
+  /// Each interface's energy at the current poses (the sweep's cache, kernels.hpp); valid only
+  /// while cache_valid_: every pose change outside the sweep clears the flag, cycle() refills.
+  Field<double> iface_energy_;
+  bool cache_valid_ = false;
+  BrickSteps<> brick_steps_;  ///< step_mode = "per-brick" only
+  Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
+  Field<double> phi_;
+  ConvergenceMonitor monitor_;
+  std::vector<std::pair<std::string, double>> presim_;
+  PhaseTimes times_;
+  double D_ = 0, E_ = 0, step_, rot_step_;
+  double temperature_;        ///< of the sweep: the deck's TEMP, lower while anneal() runs
+  double step_floor_ = 1.0;   ///< factor on the per-brick steps' floors (1e-6 while anneal() runs)
+  double acceptance_target_ = 0.5;  ///< of the per-brick step adaptation (eq. 2.7: 0.5; 0.2 while anneal() runs)
+  long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
+  long accepted_total_ = 0, trials_total_ = 0;
+  long cycle_limit_ = 0;  ///< > 0: relax() gives up after this many cycles (backtracking)
+  RunState run_;
+  std::uint64_t global_cycle_ = 0;
+  bool interrupted_ = false;
+  Polisher<Exec> polisher_;
+  ResidualScale scale_;
+  PolishOptions polish_options_;
+  double residual_ = 0;   ///< of the last relax()
+  long step_polish_ = 0;  ///< polish iterations of the last relax()
+  bool failed_ = false;
+  StepRecord failed_step_;
+  const Solver* owner_ = nullptr;
+  std::ostream* log_;
+};
+
+}  // namespace nacre::mc
