@@ -297,8 +297,8 @@ TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a che
     return p;
   };
   for (const bool aes : {false, true}) {
-    d.solver.rng = aes ? "aes-ctr" : "philox";      // in the sweep / a table the source fills
-    d.solver.per_brick_steps = aes;                  // and both step modes
+    d.solver.rng = aes ? "aes-ctr" : "philox";  // in the sweep / a table the source fills
+    d.solver.per_brick_steps = aes;             // and both step modes
     CAPTURE(d.solver.rng);
     mc::Checkpoint cp;
     const Path ref = run(Backend{}, nullptr, &cp);

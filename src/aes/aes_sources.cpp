@@ -121,8 +121,7 @@ AesCtrSource::AesCtrSource(std::uint64_t seed) {
   masks_ = detail::make_masks(ExecSpace(), expand_key(aes_ctr_key(seed)));
 }
 
-void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams,
-                        rng::UniformTable<> u) {
+void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::aes_ctr");
   check_extents("aes-ctr", streams.extent(0), u.extent(0));
   backend.visit([&](const auto& space) {
@@ -184,8 +183,7 @@ void MtAesSource::advance_to(std::uint64_t draw) {
   last_draw_ = draw;
 }
 
-void MtAesSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams,
-                       rng::UniformTable<> u) {
+void MtAesSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::mt_aes");
   check_extents("mt-aes", streams.extent(0), u.extent(0));
   advance_to(draw);  // host MT state, uploaded with a fence

@@ -254,8 +254,8 @@ std::pair<double, bool> compare(const std::vector<double>& a, const std::vector<
 
 struct BenchOptions {
   std::string deck, out = "bench", backends;
-  std::string compare;      ///< another bench's output directory (another build, e.g. a GPU one)
-  double tolerance = 1e-6;  ///< of --compare: largest |difference| / largest |value|
+  std::string compare;         ///< another bench's output directory (another build, e.g. a GPU one)
+  double tolerance = 1e-6;     ///< of --compare: largest |difference| / largest |value|
   long steps = 0, cycles = 0;  ///< 0: not given (dynamics: 200 steps; Monte Carlo: 20 cycles)
   int repeat = 3;
 };
@@ -277,7 +277,8 @@ nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::order
                                     const std::vector<std::pair<std::string, const Sample*>>& firsts, bool& within) {
   namespace fs = std::filesystem;
   std::ifstream jin(fs::path(o.compare) / "bench.json");
-  if (!jin) throw std::invalid_argument(o.compare + "/bench.json: cannot be read (--compare takes a bench's output directory)");
+  if (!jin)
+    throw std::invalid_argument(o.compare + "/bench.json: cannot be read (--compare takes a bench's output directory)");
   const auto other = nlohmann::ordered_json::parse(jin);
   for (const char* key : {"bricks", "unit", "units_per_repeat"})
     if (other.at(key) != mine.at(key))
@@ -300,7 +301,9 @@ nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::order
     c["backends"][name] = {{"max_difference", diff}, {"relative", rel}, {"bit_identical", same}, {"within", ok}};
     std::printf("%-8s against %s (%s): max |diff| %.3g, relative %.3g: %s\n", name.c_str(), o.compare.c_str(),
                 c["reference_backend"].get<std::string>().c_str(), diff, rel,
-                same ? "bit-identical" : ok ? "within the tolerance" : "BEYOND the tolerance");
+                same ? "bit-identical"
+                : ok ? "within the tolerance"
+                     : "BEYOND the tolerance");
   }
   return c;
 }
@@ -354,8 +357,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
       {"cores", std::thread::hardware_concurrency()},
       {"gpu", machine_gpu()}};
   j["reference_backend"] = backends[ref].name();
-  std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", ("s/" + unit).c_str(), work,
-              "speed-up", "of triad", "of FMA", "agreement");
+  std::printf("%-8s %8s %14s %16s %9s %10s %10s  %s\n", "backend", "threads", ("s/" + unit).c_str(), work, "speed-up",
+              "of triad", "of FMA", "agreement");
   const Sample* r0 = first(0);
   for (std::size_t k = 0; k < backends.size(); ++k) {
     const Sample* b = best(k);
@@ -365,8 +368,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     // fraction of the bandwidth bound: the bytes a unit must move at least (Simulation::step_bytes,
     // Solver::cycle_bytes) at the backend's triad rate; of the FMA bound: not estimated (nacre
     // does not count its flops)
-    const double of_triad =
-        bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    const double of_triad = bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
     // the uniform source's rate where it fills a table (aes-ctr, mt-aes; Philox is drawn inside the sweep)
     const auto rng_phase = b->phase.find("nacre::mc::rng");
     const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
@@ -449,8 +451,10 @@ int bench(const BenchOptions& o) {
   const long units = dynamic ? (o.steps > 0 ? o.steps : 200) : o.steps > 0 ? o.steps : o.cycles > 0 ? o.cycles : 20;
   std::cout << "nacre bench: " << o.deck << ": " << specimen.size() << " bricks, "
             << (dynamic ? "dynamics, " : "Monte Carlo, ") << units
-            << (dynamic ? " steps" : o.steps > 0 ? " load steps" : " cycles at the first load step") << " x "
-            << o.repeat << " repeats on";
+            << (dynamic       ? " steps"
+                : o.steps > 0 ? " load steps"
+                              : " cycles at the first load step")
+            << " x " << o.repeat << " repeats on";
   for (const auto& b : backends) std::cout << " " << b.name() << " (" << b.concurrency() << " threads)";
   std::cout << "\n";
 
@@ -479,7 +483,8 @@ int bench_main(int argc, char* argv[]) {
   cli.add_option("deck", o.deck, "TOML input deck")->required()->check(CLI::ExistingFile);
   cli.add_option("--backends", o.backends, "comma-separated backends (default: all of `nacre --backend list`)");
   cli.add_option("--steps", o.steps,
-                 "time steps per repeat (dynamic decks; default 200), or load steps of the path (Monte Carlo decks)")->check(CLI::Range(1L, 100000000L));
+                 "time steps per repeat (dynamic decks; default 200), or load steps of the path (Monte Carlo decks)")
+      ->check(CLI::Range(1L, 100000000L));
   cli.add_option("--cycles", o.cycles, "Monte Carlo cycles per repeat at the first load step (rigid decks; default 20)")
       ->check(CLI::Range(1L, 100000000L));
   cli.add_option("--repeat", o.repeat, "repeats (each backend in turn)")->check(CLI::Range(1, 1000));
@@ -487,7 +492,8 @@ int bench_main(int argc, char* argv[]) {
   cli.add_option("--compare", o.compare,
                  "another bench's output directory (e.g. a CUDA build's): each backend's result against its state.bin")
       ->check(CLI::ExistingDirectory);
-  cli.add_option("--tolerance", o.tolerance, "of --compare: largest |difference| over the largest |value| (default 1e-6)")
+  cli.add_option("--tolerance", o.tolerance,
+                 "of --compare: largest |difference| over the largest |value| (default 1e-6)")
       ->check(CLI::PositiveNumber);
   if (const int rc = parse_command_line(cli, app_args, [] {}); rc >= 0) return rc;
   kokkos_args.push_back(nullptr);

@@ -190,10 +190,11 @@ private:
       throw io::CheckpointError(opt_.restart + ": " + e.what());
     }
     if (log_)
-      *log_ << "nacre: restarting from " << opt_.restart << " at step " << cp_->run.step << ", D = " << cp_->displacement
-            << ", cycle " << cp_->global_cycle
+      *log_ << "nacre: restarting from " << opt_.restart << " at step " << cp_->run.step
+            << ", D = " << cp_->displacement << ", cycle " << cp_->global_cycle
             << (!cp_->backend.empty() && cp_->backend != session_.backend().name()
-                    ? " (written on " + cp_->backend + ", continued on " + session_.backend().name() + ": the same bits)"
+                    ? " (written on " + cp_->backend + ", continued on " + session_.backend().name() +
+                          ": the same bits)"
                     : std::string())
             << "\n";
   }

@@ -38,16 +38,10 @@ SolverOn<Exec>::Settings::Settings(const deck::Deck& d)
 
 template <class Exec>
 SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const Solver* owner, std::ostream* log)
-    : space_(space),
-      cfg_(d),
-      pattern_{d.load.tension, d.load.bending, d.geometry.width},
-      monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol,
-               d.solver.stol_relative),
-      step_(d.solver.step),
-      rot_step_(d.solver.rot_step),
-      temperature_(d.solver.temperature),
-      owner_(owner),
-      log_(log) {}
+    : space_(space), cfg_(d), pattern_{d.load.tension, d.load.bending, d.geometry.width},
+      monitor_(d.solver.window_size, d.solver.convergence_rep, d.solver.stol, d.solver.rtol, d.solver.stol_relative),
+      step_(d.solver.step), rot_step_(d.solver.rot_step), temperature_(d.solver.temperature), owner_(owner), log_(log) {
+}
 
 template <class Exec>
 SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
@@ -82,7 +76,7 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
 
 template <class Exec>
 void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
-                   const Colouring& c) {
+                           const Colouring& c) {
   source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
   m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
   allocate_work();
@@ -107,8 +101,8 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
 
 template <class Exec>
 std::string SolverOn<Exec>::presimulate(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
-                                const geometry::Interfaces& f, const geometry::Adjacency& adj,
-                                std::vector<std::pair<std::string, double>>& presim, std::ostream* log) {
+                                        const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                        std::vector<std::pair<std::string, double>>& presim, std::ostream* log) {
   // Pre-simulation (§2.4, colouring = "fastest"): a few cycles at the first load increment with
   // each candidate; the fastest wins. The choice depends on timings, so results may differ
   // between runs; the pick is logged, written to summary.json and kept by the checkpoint. Each candidate is
@@ -243,7 +237,9 @@ double SolverOn<Exec>::dissipated() {
 }
 
 template <class Exec>
-bool SolverOn<Exec>::finished() const { return run_.leg >= static_cast<int>(cfg_.load.targets().size()); }
+bool SolverOn<Exec>::finished() const {
+  return run_.leg >= static_cast<int>(cfg_.load.targets().size());
+}
 
 template <class Exec>
 double SolverOn<Exec>::path_fraction() const {
@@ -408,7 +404,7 @@ std::size_t SolverOn<Exec>::cycle_bytes() const {
   Kokkos::deep_copy(space_, Kokkos::View<int, Kokkos::HostSpace>(&slots), Kokkos::subview(m_.adj_offset, m_.n_free));
   space_.fence("nacre::mc::cycle_bytes");
   const std::size_t nf = static_cast<std::size_t>(m_.n_free), ns = static_cast<std::size_t>(slots);
-  std::size_t b = nf * (2 * 5 * sizeof(double)                // pose read and written
+  std::size_t b = nf * (2 * 5 * sizeof(double)                 // pose read and written
                         + sizeof(std::uint64_t) + sizeof(int)  // stream id, CSR offset
                         + sizeof(double));                     // energy change
   b += ns * (static_cast<std::size_t>(col(SlotCol::count)) * sizeof(double) + 2 * sizeof(int) + 1);  // slot records
@@ -752,8 +748,8 @@ void SolverOn<Exec>::poses(std::vector<double>& x, std::vector<double>& y, std::
 
 // ---- the face: the backend picks the space once; every member forwards to SolverOn<space>
 
-Solver::Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s,
-               const geometry::Interfaces& f, std::ostream* log) {
+Solver::Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+               std::ostream* log) {
   backend.visit([&](const auto& space) {
     using Exec = std::decay_t<decltype(space)>;
     impl_ = std::make_unique<SolverOn<Exec>>(space, d, s, f, this, log);

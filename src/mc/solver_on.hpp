@@ -102,15 +102,15 @@ private:
   /// while cache_valid_: every pose change outside the sweep clears the flag, cycle() refills.
   Field<double> iface_energy_;
   bool cache_valid_ = false;
-  BrickSteps<> brick_steps_;  ///< step_mode = "per-brick" only
+  BrickSteps<> brick_steps_;                 ///< step_mode = "per-brick" only
   Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
   Field<double> phi_;
   ConvergenceMonitor monitor_;
   std::vector<std::pair<std::string, double>> presim_;
   PhaseTimes times_;
   double D_ = 0, E_ = 0, step_, rot_step_;
-  double temperature_;        ///< of the sweep: the deck's TEMP, lower while anneal() runs
-  double step_floor_ = 1.0;   ///< factor on the per-brick steps' floors (1e-6 while anneal() runs)
+  double temperature_;              ///< of the sweep: the deck's TEMP, lower while anneal() runs
+  double step_floor_ = 1.0;         ///< factor on the per-brick steps' floors (1e-6 while anneal() runs)
   double acceptance_target_ = 0.5;  ///< of the per-brick step adaptation (eq. 2.7: 0.5; 0.2 while anneal() runs)
   long window_accepted_ = 0, window_trials_ = 0;  ///< since the last step-size adaptation
   long accepted_total_ = 0, trials_total_ = 0;

@@ -91,8 +91,8 @@ struct Model {
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
 /// and uploads everything on the backend's instance (fenced before returning). Poses start at zero.
 Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const geometry::Adjacency& adj, const Colouring& colouring,
-                    const deck::Mortar& mortar, int quadrature_points);
+                    const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
+                    int quadrature_points);
 /// \brief The same on an instance of an enabled space (the kernels' calling convention).
 template <class ExecutionSpace, class = std::enable_if_t<Kokkos::is_execution_space_v<ExecutionSpace>>>
 Model<> build_model(const ExecutionSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,

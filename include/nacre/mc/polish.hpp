@@ -100,7 +100,7 @@ double Polisher<ExecutionSpace>::residual(const ExecutionSpace& space, const Mod
 
 template <class ExecutionSpace>
 PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                           const PolishOptions& o) {
+                                           const PolishOptions& o) {
   if (o.method == PolishMethod::fire) return fire(space, m, scale, o);
   if (o.method == PolishMethod::newton) return newton(space, m, scale, o);
   if (o.method == PolishMethod::anneal) throw std::logic_error("Polisher::run: anneal is mc::Solver::anneal");
@@ -112,7 +112,7 @@ PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Mo
 
 template <class ExecutionSpace>
 PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                            const PolishOptions& o) {
+                                            const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_fire");
   // Bitzek et al. 2006, Table 1: N_min 5, f_inc 1.1, f_dec 0.5, alpha_start 0.1, f_alpha 0.99.
   constexpr int n_min = 5;
@@ -139,23 +139,27 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   double rounding_floor = 0;
   {
     auto e = iface_e_;
-    rounding_floor = 4 * DBL_EPSILON * deterministic_sum(space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
-                                                         KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+    rounding_floor = 4 * DBL_EPSILON *
+                     deterministic_sum(
+                         space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
+                         KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
   }
   PolishResult r;
   r.residual = residual(space, m, scale);
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
     ++r.iterations;
     // forces in the coordinates (x, y, l theta): F = -(gx, gy, gt / l)
-    const double P = -deterministic_sum(space, "nacre::mc::polish::power", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
-      return grad(b, 0) * vel(b, 0) + grad(b, 1) * vel(b, 1) + grad(b, 2) * inv_l * vel(b, 2);
-    });
-    const double FF = deterministic_sum(space, "nacre::mc::polish::force_norm", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
-      return grad(b, 0) * grad(b, 0) + grad(b, 1) * grad(b, 1) + grad(b, 2) * grad(b, 2) * inv_l * inv_l;
-    });
-    const double VV = deterministic_sum(space, "nacre::mc::polish::velocity_norm", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
-      return vel(b, 0) * vel(b, 0) + vel(b, 1) * vel(b, 1) + vel(b, 2) * vel(b, 2);
-    });
+    const double P = -deterministic_sum(
+        space, "nacre::mc::polish::power", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
+          return grad(b, 0) * vel(b, 0) + grad(b, 1) * vel(b, 1) + grad(b, 2) * inv_l * vel(b, 2);
+        });
+    const double FF = deterministic_sum(
+        space, "nacre::mc::polish::force_norm", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
+          return grad(b, 0) * grad(b, 0) + grad(b, 1) * grad(b, 1) + grad(b, 2) * grad(b, 2) * inv_l * inv_l;
+        });
+    const double VV = deterministic_sum(
+        space, "nacre::mc::polish::velocity_norm", ws_, 0, nf,
+        KOKKOS_LAMBDA(const int b) { return vel(b, 0) * vel(b, 0) + vel(b, 1) * vel(b, 1) + vel(b, 2) * vel(b, 2); });
     const bool downhill = P > 0.0;
     if (downhill) {
       if (++n_pos > n_min) dt = std::min(dt * f_inc, dt_max), alpha *= f_alpha;
@@ -168,7 +172,7 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
           const double F[3] = {-grad(b, 0), -grad(b, 1), -grad(b, 2) * inv_l};
           for (int c = 0; c < 3; ++c) {
             const double v = downhill ? keep * vel(b, c) + mix * F[c] : 0.0;  // FIRE mixing, or stop
-            vel(b, c) = v + h * F[c];  // semi-implicit Euler, unit masses
+            vel(b, c) = v + h * F[c];                                         // semi-implicit Euler, unit masses
           }
           save(b, 0) = pose(b, 0), save(b, 1) = pose(b, 1), save(b, 2) = pose(b, 2);
           const kinematics::Pose q{pose(b, 0) + h * vel(b, 0), pose(b, 1) + h * vel(b, 1),
@@ -177,19 +181,20 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
         });
     // energy test: the change summed as per-interface differences
     auto e = iface_e_, et = iface_trial_;
-    const double dE = deterministic_sum(space, "nacre::mc::polish::energy_change", ws_, 0, ni,
-                                        KOKKOS_LAMBDA(const int i) {
-                                          const double v = ev.energy(i);
-                                          et(i) = v;
-                                          return v - e(i);
-                                        });
+    const double dE = deterministic_sum(
+        space, "nacre::mc::polish::energy_change", ws_, 0, ni, KOKKOS_LAMBDA(const int i) {
+          const double v = ev.energy(i);
+          et(i) = v;
+          return v - e(i);
+        });
     if (dE <= rounding_floor) {
       std::swap(iface_e_, iface_trial_);
       r.energy_change += dE;
     } else {  // rejected: back to the saved poses, at rest, with a smaller step
       ++r.rejected;
       Kokkos::parallel_for(
-          "nacre::mc::polish::fire_reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
+          "nacre::mc::polish::fire_reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
+          KOKKOS_LAMBDA(const int b) {
             store_frame(pose, b, kinematics::make_frame(kinematics::Pose{save(b, 0), save(b, 1), save(b, 2)}));
             vel(b, 0) = vel(b, 1) = vel(b, 2) = 0.0;
           });
@@ -224,7 +229,7 @@ KOKKOS_INLINE_FUNCTION bool solve_spd3(const double H[3][3], const double g[3], 
 
 template <class ExecutionSpace>
 PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                              const PolishOptions& o) {
+                                              const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_newton");
   const InterfaceEvaluator<MemSpace> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface, tiles = m.tile_offset;
@@ -243,14 +248,16 @@ PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const
     ++r.iterations;
     for (std::size_t c = 0; c + 1 < m.colour_tiles.size(); ++c) {
       Kokkos::parallel_for(
-          "nacre::mc::polish::newton_colour", Kokkos::RangePolicy<ExecutionSpace>(space, m.colour_tiles[c], m.colour_tiles[c + 1]),
+          "nacre::mc::polish::newton_colour",
+          Kokkos::RangePolicy<ExecutionSpace>(space, m.colour_tiles[c], m.colour_tiles[c + 1]),
           KOKKOS_LAMBDA(const int w) {
             for (int b = tiles(w); b < tiles(w + 1); ++b) {
               de(b) = 0.0;
               const kinematics::Frame f0 = frame_of(pose, b);
               double g[3] = {0.0, 0.0, 0.0};
               brick_local(ev, off, adj, b, f0, g);
-              if (Kokkos::fmax(Kokkos::fmax(Kokkos::fabs(g[0]), Kokkos::fabs(g[1])) * inv_f, Kokkos::fabs(g[2]) * inv_m) < skip)
+              if (Kokkos::fmax(Kokkos::fmax(Kokkos::fabs(g[0]), Kokkos::fabs(g[1])) * inv_f,
+                               Kokkos::fabs(g[2]) * inv_m) < skip)
                 continue;
               double H[3][3];
               for (int j = 0; j < 3; ++j) {
@@ -281,8 +288,8 @@ PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const
             }
           });
     }
-    r.energy_change += deterministic_sum(space, "nacre::mc::polish::newton_sum", ws_, 0, m.n_free,
-                                         KOKKOS_LAMBDA(const int b) { return de(b); });
+    r.energy_change += deterministic_sum(
+        space, "nacre::mc::polish::newton_sum", ws_, 0, m.n_free, KOKKOS_LAMBDA(const int b) { return de(b); });
     r.residual = residual(space, m, scale);
   }
   r.converged = r.residual < o.tolerance;

@@ -89,8 +89,7 @@ public:
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log = nullptr);
   /// \brief The same on the default backend.
-  Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-         std::ostream* log = nullptr)
+  Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f, std::ostream* log = nullptr)
       : Solver(Backend{}, d, s, f, log) {}
   ~Solver();
   // the implementation calls back into on_progress / should_stop of this object: it stays put
