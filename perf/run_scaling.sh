@@ -10,7 +10,9 @@
 #
 # Environment: NACRE_SCALING_SIZES (default 5000,10000,20000,40000,80000), NACRE_SCALING_FINAL
 # (default 0.06: six load steps, before the first rupture, so every size does the same work per
-# brick), NACRE_SCALING_JOBS (runs at once, default 1). A size whose time.txt exists is skipped.
+# brick), NACRE_SCALING_JOBS (runs at once, default 1), NACRE_SCALING_RELAXATION (the deck's
+# relaxation: monte-carlo (the deck's), gradient, newton, auto; summary.json's cg_iterations gives
+# the CG work against N). A size whose time.txt exists is skipped.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-perf/results/scaling}"
@@ -26,6 +28,8 @@ run_size() {
   [ -f "$dir/time.txt" ] && { echo "[scaling] $n: done already"; return 0; }
   mkdir -p "$dir"
   perf/scaled_deck.sh "$n" "$final" > "$dir/deck.toml"
+  [ -n "${NACRE_SCALING_RELAXATION:-}" ] &&
+    sed -i "s/^\[solver\]/[solver]\nrelaxation = \"$NACRE_SCALING_RELAXATION\"/" "$dir/deck.toml"
   echo "[scaling] $n bricks: start $(date +%T)"
   app_timed_run "$dir"
   echo "[scaling] $n bricks: exit $(cat "$dir/exit_code") $(date +%T)"

@@ -174,7 +174,21 @@ TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[dec
   CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"lbfgs\"\n"),
              StartsWith("deck.toml:16: solver.relaxation:"));
   CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"none\"\n"),
-             ContainsSubstring("expected polish = \"fire\" or \"newton\""));
+             ContainsSubstring("expected polish = \"fire\", \"newton\" or \"trust-region\""));
+  // the trust-region Newton method: relaxation newton / auto, its caps, the reversible law only
+  CHECK(parse_deck_string(base + "[solver]\nrelaxation = \"newton\"\n", "deck.toml").solver.relaxation == "newton");
+  CHECK(parse_deck_string(base + "[solver]\nrelaxation = \"auto\"\n", "deck.toml").solver.relaxation == "auto");
+  CHECK(d.solver.cg_iterations == 500);
+  CHECK(d.solver.burst_cycles == 200);
+  CHECK_THAT(error_of(base + "[solver]\ncg_iterations = 0\n"), StartsWith("deck.toml:16: solver.cg_iterations:"));
+  CHECK_THAT(error_of(base + "[solver]\nburst_cycles = -1\n"), StartsWith("deck.toml:16: solver.burst_cycles:"));
+  std::string cyclic = base;  // a programme that turns back: damage "auto" is irreversible
+  const std::string fin = "final_displacement = 0.05";
+  cyclic.replace(cyclic.find(fin), fin.size(), "programme = [0.02, 0.01, 0.05]");
+  CHECK_THAT(error_of(cyclic + "[solver]\nrelaxation = \"newton\"\n"),
+             ContainsSubstring("solver.relaxation: the trust-region Newton method needs the reversible law"));
+  CHECK_THAT(error_of(cyclic + "[solver]\npolish = \"trust-region\"\n"), ContainsSubstring("solver.polish: the trust-region"));
+  CHECK(parse_deck_string(cyclic + "[solver]\nrelaxation = \"auto\"\n", "deck.toml").solver.relaxation == "auto");
   CHECK(parse_deck_string(base + "[solver]\npolish = \"anneal\"\n", "deck.toml").solver.polish == "anneal");
   CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"anneal\"\n"),
              ContainsSubstring("not \"anneal\""));

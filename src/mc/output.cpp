@@ -20,7 +20,7 @@ std::string num(double v) { return format_real(v, 10); }
 
 std::string csv_header() {
   return "step,displacement,energy,reaction,cycles,acceptance,ruptured,converged,step_size,"
-         "rot_step,increment,reverts,seconds,residual,polish_iterations," +
+         "rot_step,increment,reverts,seconds,residual,polish_iterations,cg_iterations,method," +
          fracture::csv_header() + "\n";
 }
 
@@ -29,7 +29,8 @@ std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack) {
          std::to_string(r.cycles) + "," + num(r.acceptance) + "," + std::to_string(r.ruptured) + "," +
          (r.converged ? "1" : "0") + "," + num(r.step_size) + "," + num(r.rot_step) + "," + num(r.increment) + "," +
          std::to_string(r.reverts) + "," + num(r.seconds) + "," + num(r.residual) + "," +
-         std::to_string(r.polish_iterations) + "," + fracture::csv_columns(crack, 10) + "\n";
+         std::to_string(r.polish_iterations) + "," + std::to_string(r.inner_iterations) + "," + r.method + "," +
+         fracture::csv_columns(crack, 10) + "\n";
 }
 
 io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
@@ -114,6 +115,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["residual_scale"] = {{"force", solver.residual_scale().force}, {"moment", solver.residual_scale().moment}};
   j["max_step_residual"] = solver.max_step_residual();
   j["polish_iterations"] = solver.polish_iterations_total();
+  j["cg_iterations"] = solver.run_state().cg_iterations;
   nlohmann::ordered_json presim = nlohmann::ordered_json::object();
   for (const auto& [name, sec] : solver.presim()) presim[name] = sec;
   j["presimulation_seconds_per_cycle"] = presim;
@@ -146,6 +148,7 @@ io::Checkpoint to_named(const Checkpoint& c, const std::string& fingerprint, con
   n.reals["previous_increment"] = c.run.previous_increment;
   n.reals["max_step_residual"] = c.run.max_residual;
   n.integers["polish_iterations"] = c.run.polish_iterations;
+  n.integers["cg_iterations"] = c.run.cg_iterations;
   n.integers["leg"] = c.run.leg;
   n.integers["legs"] = legs;
   n.reals["displacement"] = c.displacement;
@@ -196,6 +199,7 @@ Checkpoint from_named(const io::Checkpoint& n, std::size_t n_bricks, std::size_t
   c.run.previous_increment = real("previous_increment", false);
   c.run.max_residual = real("max_step_residual", false);
   c.run.polish_iterations = count("polish_iterations", big);
+  c.run.cg_iterations = n.integers.count("cg_iterations") ? count("cg_iterations", big) : 0;  // (older nacre: none)
   c.run.leg = n.integers.count("leg") ? static_cast<int>(count("leg", 1000)) : 0;  // older nacre: one leg
   // (a programme that turned has no previous increment to extrapolate: have_previous 0 after a turn)
   if (c.run.step > 0 && !c.run.have_previous && c.run.leg == 0)

@@ -11,15 +11,17 @@
 namespace nacre::mc {
 
 PolishMethod parse_polish_method(const std::string& name) {
-  for (const auto m : {PolishMethod::fire, PolishMethod::newton, PolishMethod::anneal, PolishMethod::none})
+  for (const auto m :
+       {PolishMethod::fire, PolishMethod::newton, PolishMethod::trust_region, PolishMethod::anneal, PolishMethod::none})
     if (name == polish_method_name(m)) return m;
-  throw std::invalid_argument("unknown polish method '" + name + "' (expected fire, newton, anneal or none)");
+  throw std::invalid_argument("unknown polish method '" + name + "' (expected fire, newton, trust-region, anneal or none)");
 }
 
 const char* polish_method_name(PolishMethod m) {
   switch (m) {
     case PolishMethod::fire: return "fire";
     case PolishMethod::newton: return "newton";
+    case PolishMethod::trust_region: return "trust-region";
     case PolishMethod::anneal: return "anneal";
     case PolishMethod::none: return "none";
   }

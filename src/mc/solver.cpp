@@ -21,6 +21,16 @@ std::vector<bool> free_flags(const geometry::Specimen& s) {
 }  // namespace
 
 namespace {
+/// The deck's relaxation; "auto" with the irreversible law (a path that turns back: the
+/// Hessian needs the reversible law, hessian.hpp) is Monte Carlo with the polish.
+Relaxation parse_relaxation(const deck::Deck& d) {
+  const std::string& r = d.solver.relaxation;
+  if (r == "gradient") return Relaxation::gradient;
+  if (r == "newton") return Relaxation::newton;
+  if (r == "auto") return d.mortar.damage == cohesive::Damage::irreversible ? Relaxation::monte_carlo : Relaxation::automatic;
+  return Relaxation::monte_carlo;
+}
+
 Colouring make_colouring(const std::string& name, const geometry::Specimen& s, const geometry::Adjacency& adj,
                          const std::vector<bool>& free, std::uint64_t seed) {
   Colouring c = colour_graph(name, s, adj, free, seed);
@@ -34,7 +44,7 @@ template <class Exec>
 SolverOn<Exec>::Settings::Settings(const deck::Deck& d)
     : load(d.load), mc(d.solver), mortar(d.mortar), brick_width(d.geometry.brick_width),
       brick_height(d.geometry.brick_height), seed(d.seed), by_residual(d.solver.convergence == "residual"),
-      gradient_only(d.solver.relaxation == "gradient"), polish(parse_polish_method(d.solver.polish)) {}
+      relax(parse_relaxation(d)), polish(parse_polish_method(d.solver.polish)) {}
 
 template <class Exec>
 SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const Solver* owner, std::ostream* log)
@@ -92,6 +102,7 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
   polish_options_.method = cfg_.polish;
   polish_options_.tolerance = cfg_.mc.residual_tolerance;
   polish_options_.max_iterations = cfg_.mc.polish_iterations;
+  polish_options_.max_inner_iterations = cfg_.mc.cg_iterations;
   polish_options_.rotation_length = bw / std::sqrt(12.0);
   polish_options_.stiffness = 2.0 * bed.k * bw + 2.0 * head.k * bh;
   D_ = 0;
@@ -268,10 +279,18 @@ double SolverOn<Exec>::residual() {
 
 template <class Exec>
 PolishResult SolverOn<Exec>::polish(const std::string& method, double tolerance) {
+  PolishOptions o = polish_options_;
+  if (!method.empty()) o.method = parse_polish_method(method);
+  if (tolerance > 0) o.tolerance = tolerance;
+  return polish_with(o.method, o.tolerance);
+}
+
+template <class Exec>
+PolishResult SolverOn<Exec>::polish_with(PolishMethod method, double tolerance) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;
-  if (!method.empty()) o.method = parse_polish_method(method);
+  o.method = method;
   if (tolerance > 0) o.tolerance = tolerance;
   cache_valid_ = false;
   const PolishResult r = o.method == PolishMethod::anneal ? anneal(o) : polisher_.run(space_, m_, scale_, o);
@@ -453,24 +472,28 @@ long SolverOn<Exec>::relax(bool& converged) {
   const bool by_residual = cfg_.by_residual;
   const long limit = cycle_limit_ > 0 ? std::min(cycle_limit_, S.max_cycles) : S.max_cycles;
   converged = false;
-  step_polish_ = 0;
+  step_polish_ = step_inner_ = 0;
   long c = 0;
-  if (cfg_.gradient_only) {
-    // A pure gradient minimiser with the same load stepping: no Monte Carlo at all (0 cycles);
-    // the step converges when the polish reaches the tolerance within polish_iterations.
-    const PolishResult p = polish();
-    step_polish_ = p.iterations;
+  if (cfg_.relax == Relaxation::gradient || cfg_.relax == Relaxation::newton) {
+    // A pure gradient (or Newton) minimiser with the same load stepping: no Monte Carlo at all
+    // (0 cycles); the step converges when the method reaches the tolerance within polish_iterations.
+    const bool newton = cfg_.relax == Relaxation::newton;
+    const PolishResult p = polish_with(newton ? PolishMethod::trust_region : polish_options_.method);
+    step_polish_ = p.iterations, step_inner_ = p.inner_iterations;
     residual_ = p.residual;
+    step_method_ = newton ? "newton" : "gradient";
     converged = p.converged || !by_residual;
     E_ = energy();
     return 0;
   }
+  if (cfg_.relax == Relaxation::automatic) return relax_auto(converged, limit);
+  step_method_ = "monte-carlo";
   for (;;) {
     bool window = false;
     c += mc_phase(limit - c, window);
     if (interrupted_) break;
     const PolishResult p = polish();
-    step_polish_ += p.iterations;
+    step_polish_ += p.iterations, step_inner_ += p.inner_iterations;
     residual_ = p.residual;
     if (interrupted_) break;  // stopped inside the polish (anneal)
     if (!by_residual) {
@@ -483,6 +506,47 @@ long SolverOn<Exec>::relax(bool& converged) {
     }
     if (c >= limit) break;
   }
+  E_ = energy();
+  return c;
+}
+
+template <class Exec>
+long SolverOn<Exec>::relax_auto(bool& converged, long limit) {
+  // relaxation = "auto": trust-region Newton from the predicted poses. Where it stalls, or where
+  // the step ruptured joints (a crack advanced: a lower state may lie across a flat plateau of
+  // ruptured joints, where the gradient is zero and Newton stops, tests/test_polish.cpp), a
+  // bounded Monte Carlo burst (burst_cycles, ended early by the window test) and Newton again;
+  // of two converged states the lower is kept. Bursts repeat only while Newton has not converged.
+  PolishResult p = polish_with(PolishMethod::trust_region);
+  step_polish_ += p.iterations, step_inner_ += p.inner_iterations;
+  step_method_ = "newton";
+  long c = 0;
+  bool burst = !p.converged || ruptured() > step_ruptured0_;
+  while (burst && c < limit && !interrupted_) {
+    const bool had = p.converged;
+    const double e_had = had ? energy() : 0.0;
+    if (had) {
+      if (!burst_pose_.data())
+        burst_pose_ = Model<>::PoseView(
+            Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::burst_pose"), m_.n_bricks);
+      Kokkos::deep_copy(space_, burst_pose_, m_.pose);
+    }
+    bool window = false;
+    c += mc_phase(std::min(limit - c, cfg_.mc.burst_cycles), window);
+    if (interrupted_) break;
+    const PolishResult q = polish_with(PolishMethod::trust_region);
+    step_polish_ += q.iterations, step_inner_ += q.inner_iterations;
+    if (had && (!q.converged || energy() >= e_had)) {  // the burst found nothing lower: Newton's state
+      Kokkos::deep_copy(space_, m_.pose, burst_pose_);
+      cache_valid_ = false;
+      break;
+    }
+    p = q;
+    step_method_ = "newton+monte-carlo";
+    burst = !p.converged;
+  }
+  residual_ = p.residual;
+  converged = p.converged || !cfg_.by_residual;
   E_ = energy();
   return c;
 }
@@ -548,7 +612,8 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
     const long acc0 = accepted_total_;
     const long trials0 = trials_total_;
     const int snap_limit = L.max_ruptures_per_step;
-    const int ruptured0 = snap_limit > 0 ? ruptured() : 0;
+    const int ruptured0 = snap_limit > 0 || cfg_.relax == Relaxation::automatic ? ruptured() : 0;
+    step_ruptured0_ = ruptured0;
     for (;;) {
       if (L.predictor && have_prev) predict(inc_now / inc_prev);
       set_load(D0 + dir * inc_now);
@@ -595,6 +660,8 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
       r.reverts = reverts;
       r.residual = residual_;
       r.polish_iterations = step_polish_;
+      r.inner_iterations = step_inner_;
+      r.method = step_method_;
       r.seconds = timer.seconds();
       return r;
     };
@@ -631,6 +698,7 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
     }
     run_.max_residual = std::max(run_.max_residual, residual_);
     run_.polish_iterations += step_polish_;
+    run_.cg_iterations += step_inner_;
     r.seconds = timer.seconds();
     if (on_step) on_step(r);
   }

@@ -10,6 +10,9 @@
 
 namespace nacre::mc {
 
+/// \brief How a load step is relaxed (deck key relaxation).
+enum class Relaxation { monte_carlo, gradient, newton, automatic };
+
 template <class Exec>
 class SolverOn {
   static_assert(Kokkos::SpaceAccessibility<Exec, MemSpace>::accessible,
@@ -32,6 +35,7 @@ public:
   [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
   double residual();
   PolishResult polish(const std::string& method = "", double tolerance = 0);
+  PolishResult polish_with(PolishMethod method, double tolerance = 0);
   PolishResult anneal(const PolishOptions& o);
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
   [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
@@ -69,6 +73,7 @@ private:
   void allocate_work();
   void predict(double ratio);
   long mc_phase(long budget, bool& window_converged);
+  long relax_auto(bool& converged, long limit);
   /// The face's hooks (none for a pre-simulation candidate).
   [[nodiscard]] bool stop_requested() const { return owner_ && owner_->should_stop && owner_->should_stop(); }
   void report_progress(long cycles, double energy) const {
@@ -85,7 +90,7 @@ private:
     double brick_width = 0, brick_height = 0;
     std::uint64_t seed = 1;
     bool by_residual = true;     ///< convergence = "residual" (else "window")
-    bool gradient_only = false;  ///< relaxation = "gradient"
+    Relaxation relax = Relaxation::monte_carlo;
     PolishMethod polish = PolishMethod::fire;
     explicit Settings(const deck::Deck& d);
   };
@@ -123,6 +128,10 @@ private:
   PolishOptions polish_options_;
   double residual_ = 0;   ///< of the last relax()
   long step_polish_ = 0;  ///< polish iterations of the last relax()
+  long step_inner_ = 0;   ///< CG iterations of the last relax() (trust region)
+  std::string step_method_;  ///< what finished the last relax() (StepRecord::method)
+  int step_ruptured0_ = 0;  ///< ruptured joints at the start of the load step (relaxation = "auto")
+  Model<>::PoseView burst_pose_;  ///< relaxation = "auto": Newton's state while a burst looks for a lower one
   bool failed_ = false;
   StepRecord failed_step_;
   const Solver* owner_ = nullptr;

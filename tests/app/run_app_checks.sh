@@ -51,3 +51,33 @@ grep -q "not converged after 200 cycles" hot.err || { echo "FAIL: no 'not conver
 [ -f hot/checkpoint.h5 ] || { echo "FAIL: no checkpoint kept"; exit 1; }
 [ ! -f hot/summary.json ] || { echo "FAIL: an unfinished run wrote summary.json"; exit 1; }
 echo "hot deck: exit 4, steps.csv and checkpoint kept"
+# relaxation = "newton" (trust-region Newton, no Monte Carlo) and "auto": every step converged,
+# steps.csv names the method and counts the CG iterations; the same deck with a load programme
+# that turns back (irreversible damage) is refused for "newton" (exit 2, naming the key)
+for r in newton auto; do
+  sed "s/^colouring = .*/colouring = \"natural\"\nrelaxation = \"$r\"\nresidual_tolerance = 1e-9/" \
+    "$src/tests/app/tiny.toml" > "$r.toml"
+  "$exe" "$r.toml" -o "$r" -q
+  python3 - "$r" <<'PY'
+import csv, sys
+r = sys.argv[1]
+rows = list(csv.DictReader(open(f"{r}/steps.csv")))
+assert len(rows) >= 3, len(rows)
+for row in rows:
+    assert row["converged"] == "1" and float(row["residual"]) < 1e-9, row
+    assert row["method"].startswith("newton"), row["method"]
+    assert int(row["cg_iterations"]) > 0 and int(row["polish_iterations"]) > 0, row
+    if r == "newton":
+        assert row["method"] == "newton" and row["cycles"] == "0", row
+print(f"relaxation = {r}: {len(rows)} steps, methods {sorted({x['method'] for x in rows})}, "
+      f"{sum(int(x['polish_iterations']) for x in rows)} Newton steps, {sum(int(x['cg_iterations']) for x in rows)} CG iterations")
+PY
+done
+sed 's/^final_displacement = .*/programme = [0.008, 0.004, 0.012]/' newton.toml > newton_cyclic.toml
+set +e
+"$exe" newton_cyclic.toml -o newton_cyclic -q 2> newton_cyclic.err
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "relaxation: the trust-region Newton method needs the reversible law" newton_cyclic.err ||
+  { cat newton_cyclic.err; echo "FAIL: newton with irreversible damage: exit $rc"; exit 1; }
+echo "newton with a path that turns back: refused (exit 2)"

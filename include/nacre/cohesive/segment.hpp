@@ -34,23 +34,29 @@
 /// end (the common case) the penalty is one sixth power. No recursion; the only loop of variable
 /// length is the graded sub-piece march of the forces (at most kMaxSubpieces).
 #include <nacre/cohesive/law.hpp>
+#include <nacre/core/dual.hpp>
 #include <nacre/cohesive/quadrature.hpp>
 
 namespace nacre::cohesive {
 
 /// \brief Gap vectors at both segment ends (g0 at s = 0, g1 at s = 1; side b minus side a) and the
 /// normal (a -> b), possibly unnormalised (see Law).
-struct Gap {
-  double g0x, g0y, g1x, g1y, nx, ny;
+/// (T: double, or ad::Dual where the traction is differentiated: mc/hessian.hpp)
+template <class T>
+struct BasicGap {
+  T g0x, g0y, g1x, g1y, nx, ny;
 };
+using Gap = BasicGap<double>;
 
 /// \brief Generalised forces conjugate to the end gaps: f0 = dE/dg0, f1 = dE/dg1 at a fixed
 /// normal, E the segment's energy. With g = u_b - u_a and a gap linear between the ends, the
 /// joint pushes side b's end k with -fk and side a's end k with +fk (consistent nodal forces of
 /// the linear shape functions 1 - s and s).
-struct EndForces {
-  double f0x = 0, f0y = 0, f1x = 0, f1y = 0;
+template <class T>
+struct BasicEndForces {
+  T f0x = 0.0, f0y = 0.0, f1x = 0.0, f1y = 0.0;
 };
+using EndForces = BasicEndForces<double>;
 
 /// \brief True when the whole segment is in the elastic range of f (|gap| <= x1 at both ends,
 /// hence everywhere) and does not penetrate (dn >= 0 at both ends, hence everywhere).
@@ -68,15 +74,17 @@ namespace detail {
 inline constexpr int kMaxSubpieces = 64;
 
 /// \brief The segment's |g(s)|^2 = a s^2 + 2 b s + c and its minimum over [0, 1].
+template <class T>
 struct Line {
-  double dx, dy;       ///< g1 - g0
-  double a, b, c, c1;  ///< coefficients; c1 = |g1|^2
-  double cross;        ///< g0 x (g1 - g0): the line passes |cross| / sqrt(a) from zero gap
-  double smin, r2min;  ///< argmin and minimum of |g(s)|^2 over [0, 1]
+  T dx, dy;       ///< g1 - g0
+  T a, b, c, c1;  ///< coefficients; c1 = |g1|^2
+  T cross;        ///< g0 x (g1 - g0): the line passes |cross| / sqrt(a) from zero gap
+  T smin, r2min;  ///< argmin and minimum of |g(s)|^2 over [0, 1]
 };
 
-KOKKOS_INLINE_FUNCTION Line make_line(const Gap& g) {
-  Line l;
+template <class T>
+KOKKOS_INLINE_FUNCTION Line<T> make_line(const BasicGap<T>& g) {
+  Line<T> l;
   l.dx = g.g1x - g.g0x, l.dy = g.g1y - g.g0y;
   l.a = l.dx * l.dx + l.dy * l.dy;
   l.b = g.g0x * l.dx + g.g0y * l.dy;
@@ -89,14 +97,15 @@ KOKKOS_INLINE_FUNCTION Line make_line(const Gap& g) {
     l.smin = 1.0, l.r2min = l.c1;
   } else {  // the foot of the perpendicular from zero gap lies inside
     l.smin = -l.b / l.a;
-    l.r2min = Kokkos::fmin(l.cross * l.cross / l.a, Kokkos::fmin(l.c, l.c1));
+    l.r2min = sc::fmin(l.cross * l.cross / l.a, sc::fmin(l.c, l.c1));
   }
   return l;
 }
 
 /// \brief {s in [0, 1] : |g(s)|^2 <= r2} = [lo, hi]. An empty set collapses onto smin, so the
 /// intervals of increasing r2 are nested.
-KOKKOS_INLINE_FUNCTION void sublevel(const Line& l, double r2, double& lo, double& hi) {
+template <class T>
+KOKKOS_INLINE_FUNCTION void sublevel(const Line<T>& l, double r2, T& lo, T& hi) {
   if (r2 <= l.r2min) {
     lo = hi = l.smin;
     return;
@@ -108,34 +117,36 @@ KOKKOS_INLINE_FUNCTION void sublevel(const Line& l, double r2, double& lo, doubl
   }
   // roots of a s^2 + 2 b s + (c - r2) = 0 (a > 0 here); b^2 - a (c - r2) = a r2 - cross^2;
   // the stable pair q / a, (c - r2) / q avoids cancelling -b against the root of the discriminant
-  const double disc = Kokkos::sqrt(Kokkos::fmax(l.a * r2 - l.cross * l.cross, 0.0));
-  const double q = -(l.b + Kokkos::copysign(disc, l.b));
-  const double s1 = q / l.a, s2 = q != 0.0 ? (l.c - r2) / q : s1;
-  lo = in0 ? 0.0 : Kokkos::clamp(Kokkos::fmin(s1, s2), 0.0, 1.0);
-  hi = in1 ? 1.0 : Kokkos::clamp(Kokkos::fmax(s1, s2), 0.0, 1.0);
+  const T disc = sc::sqrt(sc::fmax(l.a * r2 - l.cross * l.cross, 0.0));
+  const T q = -(l.b + sc::copysign(disc, l.b));
+  const T s1 = q / l.a, s2 = q != 0.0 ? (l.c - r2) / q : s1;
+  lo = in0 ? 0.0 : sc::clamp(sc::fmin(s1, s2), 0.0, 1.0);
+  hi = in1 ? 1.0 : sc::clamp(sc::fmax(s1, s2), 0.0, 1.0);
 }
 
 /// \brief Boundaries of the 7 pieces of f: piece j = [s[j], s[j+1]] has branch
 /// branch_of(j) = 3 2 1 0 1 2 3 (0 elastic, 1 plateau, 2 softening, 3 ruptured).
+template <class T>
 struct Pieces {
-  double s[8];
+  T s[8];
 };
 KOKKOS_INLINE_FUNCTION constexpr int branch_of(int j) { return j < 4 ? 3 - j : j - 3; }
 
-KOKKOS_INLINE_FUNCTION Pieces f_pieces(const Law& m, const Line& l) {
-  double lo1, hi1, lo2, hi2, lo3, hi3;
+template <class T>
+KOKKOS_INLINE_FUNCTION Pieces<T> f_pieces(const Law& m, const Line<T>& l) {
+  T lo1, hi1, lo2, hi2, lo3, hi3;
   const double x12 = m.x1 + m.x2;
   sublevel(l, m.x1 * m.x1, lo1, hi1);
   sublevel(l, m.x2 * m.x2, lo2, hi2);
   sublevel(l, x12 * x12, lo3, hi3);
-  Pieces p;  // nested by construction; the max() only keeps rounding from reordering them
+  Pieces<T> p;  // nested by construction; the max() only keeps rounding from reordering them
   p.s[0] = 0.0;
   p.s[1] = lo3;
-  p.s[2] = Kokkos::fmax(lo2, p.s[1]);
-  p.s[3] = Kokkos::fmax(lo1, p.s[2]);
-  p.s[4] = Kokkos::fmax(hi1, p.s[3]);
-  p.s[5] = Kokkos::fmax(hi2, p.s[4]);
-  p.s[6] = Kokkos::fmax(hi3, p.s[5]);
+  p.s[2] = sc::fmax(lo2, p.s[1]);
+  p.s[3] = sc::fmax(lo1, p.s[2]);
+  p.s[4] = sc::fmax(hi1, p.s[3]);
+  p.s[5] = sc::fmax(hi2, p.s[4]);
+  p.s[6] = sc::fmax(hi3, p.s[5]);
   p.s[7] = 1.0;
   return p;
 }
@@ -169,8 +180,8 @@ KOKKOS_INLINE_FUNCTION double mean_norm(double pa, double pb, double q, double r
 /// \brief Integral over [0, 1] of f(|g(s)|) along a segment that is not elastic everywhere:
 /// the closed form of each piece.
 KOKKOS_INLINE_FUNCTION double f_integral(const Law& m, const Gap& g) {
-  const Line l = make_line(g);
-  const Pieces p = f_pieces(m, l);
+  const Line<double> l = make_line(g);
+  const Pieces<double> p = f_pieces(m, l);
   const double x12 = m.x1 + m.x2;
   const double len = Kokkos::sqrt(l.a), inv = len > 0.0 ? 1.0 / len : 0.0;
   const double q = Kokkos::fabs(l.cross) * inv;
@@ -201,13 +212,14 @@ KOKKOS_INLINE_FUNCTION double f_integral(const Law& m, const Gap& g) {
 
 /// \brief Where the normal opening is negative: s in [sa, sb], dn(sa) = da, dn(sb) = db (unit
 /// normal). False when it is >= 0 everywhere.
-KOKKOS_INLINE_FUNCTION bool penetration(const Gap& g, double& sa, double& sb, double& da, double& db) {
-  const double a0 = g.g0x * g.nx + g.g0y * g.ny, a1 = g.g1x * g.nx + g.g1y * g.ny;
+template <class T>
+KOKKOS_INLINE_FUNCTION bool penetration(const BasicGap<T>& g, T& sa, T& sb, T& da, T& db) {
+  const T a0 = g.g0x * g.nx + g.g0y * g.ny, a1 = g.g1x * g.nx + g.g1y * g.ny;
   if (a0 >= 0.0 && a1 >= 0.0) return false;
   sa = 0.0, sb = 1.0, da = a0, db = a1;
   if (a0 >= 0.0) sa = a0 / (a0 - a1), da = 0.0;       // enters at the root of the linear dn
   else if (a1 >= 0.0) sb = a0 / (a0 - a1), db = 0.0;  // leaves at it
-  const double inv = 1.0 / Kokkos::sqrt(g.nx * g.nx + g.ny * g.ny);
+  const T inv = 1.0 / sc::sqrt(g.nx * g.nx + g.ny * g.ny);
   da *= inv, db *= inv;
   return true;
 }
@@ -243,47 +255,50 @@ KOKKOS_INLINE_FUNCTION double penalty_integral(const Law& m, const Gap& g) {
 /// \brief End forces of the penalty (unit segment length): the traction g'(dn) n / |n| against
 /// 1 - s and s; with dn linear from da to db on [sa, sb] (t the local parameter),
 /// int dn^5 (1 - t) dt = sum_i (6 - i) da^(5-i) db^i / 42 and int dn^5 t dt = sum_i (i + 1) da^(5-i) db^i / 42.
-KOKKOS_INLINE_FUNCTION void penalty_forces(const Law& m, const Gap& g, EndForces& f) {
-  double sa, sb, da, db;
+template <class T>
+KOKKOS_INLINE_FUNCTION void penalty_forces(const Law& m, const BasicGap<T>& g, BasicEndForces<T>& f) {
+  T sa, sb, da, db;
   if (!penetration(g, sa, sb, da, db)) return;
-  double ia, ib;  // int dn^5 (1 - t) dt, int dn^5 t dt
+  T ia, ib;  // int dn^5 (1 - t) dt, int dn^5 t dt
   if (db == 0.0) {
-    const double a2 = da * da, a5 = a2 * a2 * da;
+    const T a2 = da * da, a5 = a2 * a2 * da;
     ia = a5 * (6.0 / 42.0), ib = a5 * (1.0 / 42.0);
   } else if (da == 0.0) {
-    const double b2 = db * db, b5 = b2 * b2 * db;
+    const T b2 = db * db, b5 = b2 * b2 * db;
     ia = b5 * (1.0 / 42.0), ib = b5 * (6.0 / 42.0);
   } else {
-    const double a2 = da * da, a3 = a2 * da, a4 = a2 * a2, a5 = a4 * da;
-    const double b2 = db * db, b3 = b2 * db, b4 = b2 * b2, b5 = b4 * db;
+    const T a2 = da * da, a3 = a2 * da, a4 = a2 * a2, a5 = a4 * da;
+    const T b2 = db * db, b3 = b2 * db, b4 = b2 * b2, b5 = b4 * db;
     ia = (6.0 * a5 + 5.0 * a4 * db + 4.0 * a3 * b2 + 3.0 * a2 * b3 + 2.0 * da * b4 + b5) * (1.0 / 42.0);
     ib = (a5 + 2.0 * a4 * db + 3.0 * a3 * b2 + 4.0 * a2 * b3 + 5.0 * da * b4 + 6.0 * b5) * (1.0 / 42.0);
   }
   const double r = 1.0 / m.x1, r2 = r * r;
-  const double c = (sb - sa) * 0.375 * m.k * r2 * r2;  // g'(x) = 0.375 k x^5 / x1^4
-  const double inv = 1.0 / Kokkos::sqrt(g.nx * g.nx + g.ny * g.ny);
-  const double w0 = c * ((1.0 - sa) * ia + (1.0 - sb) * ib) * inv, w1 = c * (sa * ia + sb * ib) * inv;
+  const T c = (sb - sa) * 0.375 * m.k * r2 * r2;  // g'(x) = 0.375 k x^5 / x1^4
+  const T inv = 1.0 / sc::sqrt(g.nx * g.nx + g.ny * g.ny);
+  const T w0 = c * ((1.0 - sa) * ia + (1.0 - sb) * ib) * inv, w1 = c * (sa * ia + sb * ib) * inv;
   f.f0x += w0 * g.nx, f.f0y += w0 * g.ny;
   f.f1x += w1 * g.nx, f.f1y += w1 * g.ny;
 }
 
 /// \brief 8-point Gauss-Legendre on [u, v] of the plateau (br = 1) or softening (br = 2) traction
 /// f'(|g|) g / |g| against 1 - s and s.
-KOKKOS_INLINE_FUNCTION void gauss8_traction(const Law& m, int br, const Gap& g, const Line& l, double u, double v,
-                                            EndForces& f) {
+template <class T>
+KOKKOS_INLINE_FUNCTION void gauss8_traction(const Law& m, int br, const BasicGap<T>& g, const Line<T>& l, const T& u,
+                                            const T& v, BasicEndForces<T>& f) {
   // nodes +-x_i and weights w_i on [-1, 1]
   const double x[4] = {0.18343464249564980494, 0.52553240991632898582, 0.79666647741362673959,
                        0.96028985649753623168};
   const double w[4] = {0.36268378337836198297, 0.31370664587788728734, 0.22238103445337447054,
                        0.10122853629037625915};
-  const double mid = 0.5 * (u + v), half = 0.5 * (v - u), x12 = m.x1 + m.x2;
+  const T mid = 0.5 * (u + v), half = 0.5 * (v - u);
+  const double x12 = m.x1 + m.x2;
   for (int i = 0; i < 8; ++i) {
-    const double s = mid + (i < 4 ? -half * x[i] : half * x[i - 4]);
-    const double gx = g.g0x + s * l.dx, gy = g.g0y + s * l.dy;
-    const double r = Kokkos::sqrt(gx * gx + gy * gy);
-    const double slope = br == 1 ? m.k * m.x1 : m.k * (x12 - r);  // f'(|g|)
-    const double c = w[i & 3] * half * slope / r;
-    const double c0 = c * (1.0 - s), c1 = c * s;
+    const T s = mid + (i < 4 ? -half * x[i] : half * x[i - 4]);
+    const T gx = g.g0x + s * l.dx, gy = g.g0y + s * l.dy;
+    const T r = sc::sqrt(gx * gx + gy * gy);
+    const T slope = br == 1 ? T(m.k * m.x1) : m.k * (x12 - r);  // f'(|g|)
+    const T c = w[i & 3] * half * slope / r;
+    const T c0 = c * (1.0 - s), c1 = c * s;
     f.f0x += c0 * gx, f.f0y += c0 * gy;
     f.f1x += c1 * gx, f.f1y += c1 * gy;
   }
@@ -292,40 +307,42 @@ KOKKOS_INLINE_FUNCTION void gauss8_traction(const Law& m, int br, const Gap& g, 
 /// \brief Forces of a plateau / softening stretch [from, to] along which |g| grows from `from`
 /// (the end nearest the foot of the perpendicular from zero gap): sub-pieces no longer in gap
 /// than half of |g| at their start, so each is far from the complex zeros of |g|.
-KOKKOS_INLINE_FUNCTION void graded_traction(const Law& m, int br, const Gap& g, const Line& l, double from, double to,
-                                            EndForces& f) {
-  const double len = Kokkos::sqrt(l.a);
-  double s = from, left = Kokkos::fabs(to - from);
+template <class T>
+KOKKOS_INLINE_FUNCTION void graded_traction(const Law& m, int br, const BasicGap<T>& g, const Line<T>& l, const T& from,
+                                            const T& to, BasicEndForces<T>& f) {
+  const T len = sc::sqrt(l.a);
+  T s = from, left = sc::fabs(to - from);
   const double dir = to >= from ? 1.0 : -1.0;
   for (int it = 0; it < kMaxSubpieces && left > 0.0; ++it) {
-    const double gx = g.g0x + s * l.dx, gy = g.g0y + s * l.dy;
-    const double h = (it == kMaxSubpieces - 1 || !(len > 0.0))
+    const T gx = g.g0x + s * l.dx, gy = g.g0y + s * l.dy;
+    const T h = (it == kMaxSubpieces - 1 || !(len > 0.0))
                          ? left
-                         : Kokkos::fmin(left, 0.5 * Kokkos::sqrt(gx * gx + gy * gy) / len);
-    const double next = h >= left ? to : s + dir * h;
-    gauss8_traction(m, br, g, l, Kokkos::fmin(s, next), Kokkos::fmax(s, next), f);
+                         : sc::fmin(left, 0.5 * sc::sqrt(gx * gx + gy * gy) / len);
+    const T next = h >= left ? to : s + dir * h;
+    gauss8_traction(m, br, g, l, sc::fmin(s, next), sc::fmax(s, next), f);
     s = next, left -= h;
   }
 }
 
 /// \brief End forces of f along a segment that is not elastic everywhere (unit length).
-KOKKOS_INLINE_FUNCTION void f_forces(const Law& m, const Gap& g, EndForces& f) {
-  const Line l = make_line(g);
-  const Pieces p = f_pieces(m, l);
+template <class T>
+KOKKOS_INLINE_FUNCTION void f_forces(const Law& m, const BasicGap<T>& g, BasicEndForces<T>& f) {
+  const Line<T> l = make_line(g);
+  const Pieces<T> p = f_pieces(m, l);
   // foot of the perpendicular from zero gap (|g| is smallest there along the whole line)
-  const double foot = l.a > 0.0 ? -l.b / l.a : 0.0;
+  const T foot = l.a > 0.0 ? -l.b / l.a : T(0.0);
   for (int j = 0; j < 7; ++j) {
-    const double sa = p.s[j], sb = p.s[j + 1], ds = sb - sa;
+    const T sa = p.s[j], sb = p.s[j + 1], ds = sb - sa;
     if (!(ds > 0.0)) continue;
     const int br = branch_of(j);
     if (br == 3) continue;  // ruptured: no traction
     if (br == 0) {  // k g(s) against 1 - s and s: exact for the quadratic integrands
-      const double gax = g.g0x + sa * l.dx, gay = g.g0y + sa * l.dy;
-      const double gbx = g.g0x + sb * l.dx, gby = g.g0y + sb * l.dy;
-      const double c = ds * m.k * (1.0 / 6.0);
+      const T gax = g.g0x + sa * l.dx, gay = g.g0y + sa * l.dy;
+      const T gbx = g.g0x + sb * l.dx, gby = g.g0y + sb * l.dy;
+      const T c = ds * m.k * (1.0 / 6.0);
       // int (ga (1-t) + gb t)(pa (1-t) + pb t) dt = (2 ga pa + ga pb + gb pa + 2 gb pb) / 6
-      const double a0 = 2.0 * (1.0 - sa) + (1.0 - sb), b0 = (1.0 - sa) + 2.0 * (1.0 - sb);
-      const double a1 = 2.0 * sa + sb, b1 = sa + 2.0 * sb;
+      const T a0 = 2.0 * (1.0 - sa) + (1.0 - sb), b0 = (1.0 - sa) + 2.0 * (1.0 - sb);
+      const T a1 = 2.0 * sa + sb, b1 = sa + 2.0 * sb;
       f.f0x += c * (a0 * gax + b0 * gbx), f.f0y += c * (a0 * gay + b0 * gby);
       f.f1x += c * (a1 * gax + b1 * gbx), f.f1y += c * (a1 * gay + b1 * gby);
       continue;
@@ -354,9 +371,10 @@ KOKKOS_INLINE_FUNCTION double integrate(EnergyTag, const Law& m, const Gap& g, d
 
 /// \brief End forces of a segment of the given length: the gradient of integrate(EnergyTag, ...)
 /// with respect to the end gaps (the traction integrated against 1 - s and s over the same pieces).
-KOKKOS_INLINE_FUNCTION EndForces integrate(TractionTag, const Law& m, const Gap& g, double length) {
-  EndForces f;
-  const double d0 = g.g0x * g.g0x + g.g0y * g.g0y, d1 = g.g1x * g.g1x + g.g1y * g.g1y;
+template <class T>
+KOKKOS_INLINE_FUNCTION BasicEndForces<T> integrate(TractionTag, const Law& m, const BasicGap<T>& g, double length) {
+  BasicEndForces<T> f;
+  const T d0 = g.g0x * g.g0x + g.g0y * g.g0y, d1 = g.g1x * g.g1x + g.g1y * g.g1y;
   const double x1sq = m.x1 * m.x1;
   if (d0 <= x1sq && d1 <= x1sq) {  // traction k g(s): integrals of (1 - s) and s against a linear g
     const double c = m.k * (1.0 / 6.0);

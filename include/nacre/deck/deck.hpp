@@ -122,11 +122,15 @@ struct MonteCarlo {
   /// variance / trend test alone; the residual is still reported).
   std::string convergence = "residual";
   double residual_tolerance = 1e-6;  ///< dimensionless, see convergence
-  std::string polish = "fire";       ///< after the Monte Carlo relaxation: fire | newton | none
-  int polish_iterations = 20000;     ///< FIRE steps / Newton sweeps per polish
-  /// How a load step is relaxed: "monte-carlo" (Monte Carlo phases, then the polish) or
+  std::string polish = "fire";       ///< after the Monte Carlo relaxation: fire | newton | trust-region | anneal | none
+  int polish_iterations = 20000;     ///< FIRE steps / Newton sweeps / trust-region steps per polish
+  int cg_iterations = 500;           ///< CG iterations per trust-region Newton step
+  long burst_cycles = 200;           ///< relaxation = "auto": cycles of a Monte Carlo burst
+  /// How a load step is relaxed: "monte-carlo" (Monte Carlo phases, then the polish),
   /// "gradient" (the polish method alone, from the predicted poses: a pure gradient minimiser
-  /// with the same load stepping, for comparison; needs polish = fire or newton).
+  /// with the same load stepping; needs polish = fire, newton or trust-region), "newton"
+  /// (trust-region Newton-CG alone) or "auto" (Newton, with Monte Carlo bursts where it stalls
+  /// or where joints ruptured).
   std::string relaxation = "monte-carlo";
 };
 

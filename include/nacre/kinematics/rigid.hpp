@@ -20,18 +20,24 @@ struct Pose {
 /// \brief A pose with its rotation evaluated once: sin t and cos t - 1 (the latter written as
 /// -2 sin^2(t/2), so tiny rotations lose no digits). A Metropolis trial evaluates each pose's
 /// trigonometry once instead of once per interface end.
-struct Frame {
-  double x, y, t, s, c1;
+/// (T: double, or ad::Dual where the gradient is differentiated: mc/hessian.hpp)
+template <class T>
+struct BasicFrame {
+  T x, y, t, s, c1;
 };
+using Frame = BasicFrame<double>;
 
-KOKKOS_INLINE_FUNCTION Frame make_frame(const Pose& p) {
-  const double h = Kokkos::sin(0.5 * p.t);
-  return Frame{p.x, p.y, p.t, Kokkos::sin(p.t), -2.0 * h * h};
+template <class T>
+KOKKOS_INLINE_FUNCTION BasicFrame<T> make_frame(const T& x, const T& y, const T& t) {
+  const T h = sc::sin(0.5 * t);
+  return BasicFrame<T>{x, y, t, sc::sin(t), -2.0 * h * h};
 }
 
+KOKKOS_INLINE_FUNCTION Frame make_frame(const Pose& p) { return make_frame(p.x, p.y, p.t); }
+
 /// \brief Displacement of the material point at r (relative to the centroid): u + (R(t) - I) r.
-KOKKOS_INLINE_FUNCTION void point_displacement(const Frame& f, double rx, double ry, double& dx,
-                                               double& dy) {
+template <class T>
+KOKKOS_INLINE_FUNCTION void point_displacement(const BasicFrame<T>& f, double rx, double ry, T& dx, T& dy) {
   dx = f.x + f.c1 * rx - f.s * ry;
   dy = f.y + f.s * rx + f.c1 * ry;
 }
@@ -53,14 +59,16 @@ struct Segment {
 /// normal direction. The normal turns with the mean rotation tm of the two bricks:
 /// n + tm n_perp (a rotation by atan(tm) ~ tm, no trigonometry); it is left unnormalised
 /// because only a penetrating point (dn < 0, rare) needs the normal opening itself.
-KOKKOS_INLINE_FUNCTION cohesive::Gap interface_gap(const Segment& sg, const Frame& a, const Frame& b) {
-  double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
+template <class T>
+KOKKOS_INLINE_FUNCTION cohesive::BasicGap<T> interface_gap(const Segment& sg, const BasicFrame<T>& a,
+                                                           const BasicFrame<T>& b) {
+  T a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
   point_displacement(a, sg.ra0x, sg.ra0y, a0x, a0y);
   point_displacement(a, sg.ra1x, sg.ra1y, a1x, a1y);
   point_displacement(b, sg.rb0x, sg.rb0y, b0x, b0y);
   point_displacement(b, sg.rb1x, sg.rb1y, b1x, b1y);
-  const double tm = 0.5 * (a.t + b.t);
-  return cohesive::Gap{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, sg.nx - tm * sg.ny, sg.ny + tm * sg.nx};
+  const T tm = 0.5 * (a.t + b.t);
+  return cohesive::BasicGap<T>{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, sg.nx - tm * sg.ny, sg.ny + tm * sg.nx};
 }
 
 KOKKOS_INLINE_FUNCTION cohesive::Gap interface_gap(const Segment& sg, const Pose& a, const Pose& b) {
@@ -86,22 +94,37 @@ KOKKOS_INLINE_FUNCTION double interface_energy(const cohesive::Law& m, const coh
 /// dE/dphi = sum_k (fk_x gk_y - fk_y gk_x) (zero for the f(|gap|) part, exactly). The normal
 /// n0 + tm n0_perp is n0 turned by phi = atan(tm), dphi/dtm = 1 / (1 + tm^2), and each brick
 /// owns half of tm.
+template <class T>
+KOKKOS_INLINE_FUNCTION void gradient_of_forces(const Segment& sg, const BasicFrame<T>& a, const BasicFrame<T>& b,
+                                               const cohesive::BasicGap<T>& g, const cohesive::BasicEndForces<T>& f,
+                                               T ga[3], T gb[3]) {
+  const T fx = f.f0x + f.f1x, fy = f.f0y + f.f1y;
+  // d u(r) / dt = (-s rx - c ry, c rx - s ry), c = cos t = 1 + c1
+  const T ca = 1.0 + a.c1, cb = 1.0 + b.c1;
+  const T ta = f.f0x * (-a.s * sg.ra0x - ca * sg.ra0y) + f.f0y * (ca * sg.ra0x - a.s * sg.ra0y) +
+               f.f1x * (-a.s * sg.ra1x - ca * sg.ra1y) + f.f1y * (ca * sg.ra1x - a.s * sg.ra1y);
+  const T tb = f.f0x * (-b.s * sg.rb0x - cb * sg.rb0y) + f.f0y * (cb * sg.rb0x - b.s * sg.rb0y) +
+               f.f1x * (-b.s * sg.rb1x - cb * sg.rb1y) + f.f1y * (cb * sg.rb1x - b.s * sg.rb1y);
+  const T tm = 0.5 * (a.t + b.t);
+  const T dphi = (f.f0x * g.g0y - f.f0y * g.g0x + f.f1x * g.g1y - f.f1y * g.g1x) / (1.0 + tm * tm);
+  ga[0] = -fx, ga[1] = -fy, ga[2] = -ta + 0.5 * dphi;
+  gb[0] = fx, gb[1] = fy, gb[2] = tb + 0.5 * dphi;
+}
+
 KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const cohesive::Quadrature& q, const Segment& sg,
                                                const Frame& a, const Frame& b, double ga[3], double gb[3],
                                                const double* kappa = nullptr) {
   const cohesive::Gap g = interface_gap(sg, a, b);
-  const cohesive::EndForces f = cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length, kappa);
-  const double fx = f.f0x + f.f1x, fy = f.f0y + f.f1y;
-  // d u(r) / dt = (-s rx - c ry, c rx - s ry), c = cos t = 1 + c1
-  const double ca = 1.0 + a.c1, cb = 1.0 + b.c1;
-  const double ta = f.f0x * (-a.s * sg.ra0x - ca * sg.ra0y) + f.f0y * (ca * sg.ra0x - a.s * sg.ra0y) +
-                    f.f1x * (-a.s * sg.ra1x - ca * sg.ra1y) + f.f1y * (ca * sg.ra1x - a.s * sg.ra1y);
-  const double tb = f.f0x * (-b.s * sg.rb0x - cb * sg.rb0y) + f.f0y * (cb * sg.rb0x - b.s * sg.rb0y) +
-                    f.f1x * (-b.s * sg.rb1x - cb * sg.rb1y) + f.f1y * (cb * sg.rb1x - b.s * sg.rb1y);
-  const double tm = 0.5 * (a.t + b.t);
-  const double dphi = (f.f0x * g.g0y - f.f0y * g.g0x + f.f1x * g.g1y - f.f1y * g.g1x) / (1.0 + tm * tm);
-  ga[0] = -fx, ga[1] = -fy, ga[2] = -ta + 0.5 * dphi;
-  gb[0] = fx, gb[1] = fy, gb[2] = tb + 0.5 * dphi;
+  gradient_of_forces(sg, a, b, g, cohesive::integrate(cohesive::TractionTag{}, m, q, g, sg.length, kappa), ga, gb);
+}
+
+/// \brief The same with the reversible law on any scalar (ad::Dual: its derivative along the
+/// frames' seeds is a column of the Hessian, mc/hessian.hpp).
+template <class T>
+KOKKOS_INLINE_FUNCTION void interface_gradient(const cohesive::Law& m, const Segment& sg, const BasicFrame<T>& a,
+                                               const BasicFrame<T>& b, T ga[3], T gb[3]) {
+  const cohesive::BasicGap<T> g = interface_gap(sg, a, b);
+  gradient_of_forces(sg, a, b, g, cohesive::integrate(cohesive::TractionTag{}, m, g, sg.length), ga, gb);
 }
 
 /// \brief Energy of one interface between rigid bricks in poses a and b.

@@ -19,6 +19,8 @@
 /// deterministic_sum and every max a max: the same bits for any thread count.
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/mc/gradient.hpp>
+#include <nacre/mc/polish_types.hpp>
+#include <nacre/mc/trust_region.hpp>
 
 #include <algorithm>
 #include <cfloat>
@@ -28,31 +30,6 @@
 #include <utility>
 
 namespace nacre::mc {
-
-/// \brief The polish methods (deck key `polish`): anneal is mc::Solver::anneal, the others Polisher's.
-enum class PolishMethod { fire, newton, anneal, none };
-/// \brief The method named `name` (the deck's spelling); std::invalid_argument for any other.
-PolishMethod parse_polish_method(const std::string& name);
-/// \brief The deck's spelling of `m`.
-const char* polish_method_name(PolishMethod m);
-
-/// \brief What a polish is asked to do.
-struct PolishOptions {
-  PolishMethod method = PolishMethod::fire;
-  double tolerance = 1e-6;      ///< residual to reach
-  int max_iterations = 5000;    ///< FIRE steps or Newton sweeps
-  double rotation_length = 1.0; ///< l of the FIRE coordinates (x, y, l theta)
-  double stiffness = 1.0;       ///< K of one brick (sets FIRE's time steps: dt_max = 1 / sqrt(K))
-};
-
-/// \brief What a polish did.
-struct PolishResult {
-  int iterations = 0;   ///< FIRE steps / Newton sweeps taken
-  int rejected = 0;     ///< FIRE steps rejected by the energy test
-  double residual = 0;  ///< residual at the end
-  double energy_change = 0;  ///< sum of the accepted energy changes (<= 0)
-  bool converged = false;
-};
 
 /// \brief Work arrays and the two methods, on one execution space (the solver's: a template to
 /// the top, so the loops below launch on a typed instance).
@@ -79,6 +56,7 @@ private:
   Kokkos::View<double* [3], Kokkos::LayoutLeft, MemSpace> save_;
   Field<double> iface_e_, iface_trial_;
   SumWorkspace<> ws_;
+  TrustRegion<ExecutionSpace> tr_;
 };
 
 template <class ExecutionSpace>
@@ -90,6 +68,7 @@ Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m
   save_ = decltype(save_)(view_alloc(space, WithoutInitializing, "nacre::mc::polish::save"), nf);
   iface_e_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::energy"), ni);
   iface_trial_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::trial_energy"), ni);
+  tr_ = TrustRegion<ExecutionSpace>(space, m.n_free);
 }
 
 template <class ExecutionSpace>
@@ -103,6 +82,7 @@ PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Mo
                                            const PolishOptions& o) {
   if (o.method == PolishMethod::fire) return fire(space, m, scale, o);
   if (o.method == PolishMethod::newton) return newton(space, m, scale, o);
+  if (o.method == PolishMethod::trust_region) return tr_.run(space, m, scale, o, grad_, iface_e_, iface_trial_, ws_);
   if (o.method == PolishMethod::anneal) throw std::logic_error("Polisher::run: anneal is mc::Solver::anneal");
   PolishResult r;
   r.residual = residual(space, m, scale);

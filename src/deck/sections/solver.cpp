@@ -44,13 +44,23 @@ void read_solver(Section& top, Deck& d) {
   s.string("convergence", S.convergence, {"residual", "window"}, "\"residual\" or \"window\"");
   s.number("residual_tolerance", {}, S.residual_tolerance, [](double v) { return v > 0 && v < 1; },
            "a tolerance in (0, 1) (the residual is relative to k x1 brick_width)");
-  s.string("polish", S.polish, {"fire", "newton", "anneal", "none"},
-           "one of \"fire\", \"newton\", \"anneal\", \"none\"");
+  s.string("polish", S.polish, {"fire", "newton", "trust-region", "anneal", "none"},
+           "one of \"fire\", \"newton\", \"trust-region\", \"anneal\", \"none\"");
   s.integer("polish_iterations", {}, S.polish_iterations, 1, 100000000, "an integer >= 1");
-  s.string("relaxation", S.relaxation, {"monte-carlo", "gradient"}, "\"monte-carlo\" or \"gradient\"");
-  if (S.relaxation == "gradient" && S.polish != "fire" && S.polish != "newton")
-    s.fail("relaxation", "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\" or "
-                         "\"newton\", not \"" + S.polish + "\"");
+  s.integer("cg_iterations", {}, S.cg_iterations, 1, 100000000, "an integer >= 1 (CG iterations per Newton step)");
+  s.integer("burst_cycles", {}, S.burst_cycles, 1, 1000000000, "a cycle count >= 1");
+  s.string("relaxation", S.relaxation, {"monte-carlo", "gradient", "newton", "auto"},
+           "one of \"monte-carlo\", \"gradient\", \"newton\", \"auto\"");
+  if (S.relaxation == "gradient" && S.polish != "fire" && S.polish != "newton" && S.polish != "trust-region")
+    s.fail("relaxation", "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\", "
+                         "\"newton\" or \"trust-region\", not \"" + S.polish + "\"");
+  // the trust region needs the Hessian of the reversible law (mc/hessian.hpp); "auto" falls back
+  // to Monte Carlo with the polish there (docs/decks.md)
+  if (d.mortar.damage == cohesive::Damage::irreversible && (S.relaxation == "newton" || S.polish == "trust-region"))
+    s.fail(S.relaxation == "newton" ? "relaxation" : "polish",
+           "the trust-region Newton method needs the reversible law, and this deck's damage is irreversible (set, "
+           "or a load programme that turns back); expected relaxation = \"auto\", \"monte-carlo\" or "
+           "\"gradient\" with polish = \"fire\"");
   // The paper's AmpFactor and StructSteps are 1 in every run it reports; nacre implements that
   // case only and says so instead of silently ignoring another value.
   double amp = 1, structs = 1;
@@ -66,7 +76,8 @@ void read_solver(Section& top, Deck& d) {
                     "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
                     "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
                     "colouring", "presim_cycles", "convergence", "residual_tolerance",
-                    "polish", "polish_iterations", "relaxation", "AmpFactor", "StructSteps"});
+                    "polish", "polish_iterations", "cg_iterations", "burst_cycles", "relaxation", "AmpFactor",
+                    "StructSteps"});
 }
 
 }  // namespace nacre::deck::detail

@@ -1,0 +1,109 @@
+#pragma once
+/// \file
+/// \brief Exact Hessian-vector products and 3x3 diagonal blocks of the rigid-brick energy.
+///
+/// Why matrix-free: the Hessian has the brick graph's sparsity (a 3x3 block per brick and per
+/// neighbour, ~7 blocks a row), but Newton-CG only needs H v, and H v is the directional
+/// derivative of the exact gradient: the gradient code (kinematics::interface_gradient over
+/// cohesive::integrate's end forces) run on dual numbers (core/dual.hpp) with every brick's pose
+/// seeded with its component of v. Nothing is assembled or stored (a CrsMatrix would be ~60
+/// doubles a brick, rebuilt at every Newton step); each product costs about two gradients.
+/// One thread per free brick sums its own interfaces in adjacency order (as brick_gradient):
+/// no atomics, the same bits for any thread count.
+///
+/// Kinks: the law's tangent jumps where |gap| crosses x1 (k -> 0 across the gap), x2 and x1 + x2,
+/// and where the normal opening changes sign (the penalty's start). The product uses the branch
+/// the value is on, and at a kink exactly the branch the double code's comparison selects: the
+/// elastic side at |gap| = x1 (`<=`), the plateau at x2, the rupture side at x1 + x2, no penalty
+/// at dn = 0. The reversible law only (a damage history makes the energy path-dependent).
+#include <nacre/core/dual.hpp>
+#include <nacre/mc/gradient.hpp>
+
+namespace nacre::mc {
+
+namespace detail {
+/// Brick j's frame with its pose seeded by v (free bricks; driven ones stay put).
+template <class PV, class V>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free) {
+  const bool free = j < n_free;
+  return kinematics::make_frame(ad::Dual{pose(j, 0), free ? v(j, 0) : 0.0}, ad::Dual{pose(j, 1), free ? v(j, 1) : 0.0},
+                                ad::Dual{pose(j, 2), free ? v(j, 2) : 0.0});
+}
+
+/// d/de of brick b's gradient with b's neighbours in frames `other` (a functor j -> dual frame)
+/// and b in `own`: adds the derivative to hv[3].
+template <class MemorySpace, class OtherFrame>
+KOKKOS_INLINE_FUNCTION void brick_tangent(const InterfaceEvaluator<MemorySpace>& ev,
+                                          const Kokkos::View<int*, MemorySpace>& off,
+                                          const Kokkos::View<int*, MemorySpace>& adj, int b,
+                                          const kinematics::BasicFrame<ad::Dual>& own, const OtherFrame& other,
+                                          double hv[3]) {
+  for (int j = off(b); j < off(b + 1); ++j) {
+    const int i = adj(j);
+    const int a = ev.ends(i, 0), c = ev.ends(i, 1);
+    const kinematics::Segment sg = load_segment(ev.seg, i);
+    const auto fa = a == b ? own : other(a);
+    const auto fc = c == b ? own : other(c);
+    ad::Dual ga[3], gc[3];
+    kinematics::interface_gradient(ev.law(i), sg, fa, fc, ga, gc);
+    const ad::Dual* mine = a == b ? ga : gc;
+    hv[0] += mine[0].d, hv[1] += mine[1].d, hv[2] += mine[2].d;
+  }
+}
+}  // namespace detail
+
+/// \brief hv = H v over the free bricks (sweep order): the exact second derivative of the total
+/// energy in the free bricks' (x, y, theta), applied to v (see the file comment).
+template <class ExecutionSpace, class MemorySpace>
+void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, const GradientView<MemorySpace>& v,
+                    const GradientView<MemorySpace>& hv) {
+  check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(!m.hist.data(), "hessian_vector: the reversible law only");
+  const InterfaceEvaluator<MemorySpace> ev(m);
+  auto off = m.adj_offset, adj = m.adj_iface;
+  const int nf = m.n_free;
+  Kokkos::parallel_for(
+      "nacre::mc::newton::hessian_vector", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
+      KOKKOS_LAMBDA(const int b) {
+        double h[3] = {0.0, 0.0, 0.0};
+        auto other = [&](int j) { return detail::seeded_frame(ev.pose, v, j, nf); };
+        detail::brick_tangent(ev, off, adj, b, other(b), other, h);
+        hv(b, 0) = h[0], hv(b, 1) = h[1], hv(b, 2) = h[2];
+      });
+}
+
+/// \brief The 3x3 diagonal block of the Hessian per free brick (its own pose, neighbours held),
+/// symmetric, stored as (xx, yy, tt, xy, xt, yt).
+template <class MemorySpace = MemSpace>
+using BlockView = Kokkos::View<double* [6], Kokkos::LayoutLeft, MemorySpace>;
+
+template <class ExecutionSpace, class MemorySpace>
+void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, const BlockView<MemorySpace>& blocks) {
+  check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(!m.hist.data(), "hessian_blocks: the reversible law only");
+  const InterfaceEvaluator<MemorySpace> ev(m);
+  auto off = m.adj_offset, adj = m.adj_iface;
+  Kokkos::parallel_for(
+      "nacre::mc::newton::hessian_blocks", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_free),
+      KOKKOS_LAMBDA(const int b) {
+        double H[3][3];
+        auto held = [&](int j) {
+          const kinematics::Frame f = frame_of(ev.pose, j);
+          return kinematics::make_frame(ad::Dual{f.x}, ad::Dual{f.y}, ad::Dual{f.t});
+        };
+        for (int k = 0; k < 3; ++k) {
+          const kinematics::Frame f = frame_of(ev.pose, b);
+          const kinematics::BasicFrame<ad::Dual> own = kinematics::make_frame(
+              ad::Dual{f.x, k == 0 ? 1.0 : 0.0}, ad::Dual{f.y, k == 1 ? 1.0 : 0.0}, ad::Dual{f.t, k == 2 ? 1.0 : 0.0});
+          double col[3] = {0.0, 0.0, 0.0};
+          detail::brick_tangent(ev, off, adj, b, own, held, col);
+          H[0][k] = col[0], H[1][k] = col[1], H[2][k] = col[2];
+        }
+        // symmetric by construction up to rounding: store the mean of the two triangles
+        blocks(b, 0) = H[0][0], blocks(b, 1) = H[1][1], blocks(b, 2) = H[2][2];
+        blocks(b, 3) = 0.5 * (H[0][1] + H[1][0]), blocks(b, 4) = 0.5 * (H[0][2] + H[2][0]);
+        blocks(b, 5) = 0.5 * (H[1][2] + H[2][1]);
+      });
+}
+
+}  // namespace nacre::mc

@@ -1,0 +1,254 @@
+// The trust-region Newton minimiser (relaxation = "newton", "auto"; mc/trust_region.hpp): its
+// Hessian-vector product against finite differences of the exact gradient away from kinks, and
+// symmetric; the elastic minimum against the closed form; a cracking load path converged step
+// by step with few iterations; the same bits on a repeat and on every backend; "auto" escaping
+// the ruptured plateau where the gradient (and Newton) stop.
+#include <nacre/mc/hessian.hpp>
+#include <nacre/mc/solver.hpp>
+
+#include <catch2/catch_approx.hpp>
+#include <catch2/catch_test_macros.hpp>
+
+#include "elastic_exact.hpp"
+#include "wall_specimen.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace nacre;
+
+namespace {
+
+/// The notched 21 x 8 specimen of the polish tests, relaxed by Newton.
+deck::Deck newton_deck(const char* relaxation = "newton") {
+  auto d = test::notched_21x8_deck();
+  d.load.final_displacement = 0.02;
+  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
+  d.load.adaptive = true, d.load.predictor = true;
+  d.solver.temperature = 1e-7;
+  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
+  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+  d.solver.adapt_interval = 20;
+  d.solver.window_size = 60, d.solver.convergence_rep = 20;
+  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+  d.solver.residual_tolerance = 1e-9;
+  d.solver.relaxation = relaxation;
+  return d;
+}
+
+struct Setup {
+  deck::Deck d;
+  geometry::Specimen s;
+  geometry::Interfaces f;
+};
+Setup make(deck::Deck d) {
+  Setup st{d, geometry::build_specimen(d.geometry), {}};
+  st.f = geometry::find_interfaces(st.s, d.geometry);
+  return st;
+}
+
+using Host = Kokkos::View<double* [3], Kokkos::LayoutLeft, Kokkos::HostSpace>;
+
+/// Gradient of the model at its current poses (host copy).
+Host gradient_now(const mc::Model<>& m) {
+  mc::GradientView<> g("nacre::test::g", m.n_free);
+  mc::brick_gradient(ExecSpace{}, m, g);
+  return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, g);
+}
+
+/// Moves the free bricks by h v (host side, frames refreshed).
+void move(const mc::Model<>& m, const Host& base, const Host& v, double h) {
+  auto p = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.pose);
+  for (int b = 0; b < m.n_free; ++b) {
+    const auto f = kinematics::make_frame(kinematics::Pose{base(b, 0) + h * v(b, 0), base(b, 1) + h * v(b, 1),
+                                                           base(b, 2) + h * v(b, 2)});
+    p(b, 0) = f.x, p(b, 1) = f.y, p(b, 2) = f.t, p(b, 3) = f.s, p(b, 4) = f.c1;
+  }
+  Kokkos::deep_copy(m.pose, p);
+}
+
+}  // namespace
+
+TEST_CASE("H v is the directional derivative of the exact gradient, and H is symmetric",
+          "[mc][newton][physics]") {
+  // A loaded notched specimen relaxed by FIRE: its joints span the elastic, plateau and
+  // softening branches. For random directions v, H v (dual numbers through the gradient code)
+  // against central differences of the exact gradient with steps that cross no kink (the
+  // interface states at x +- h v are those at x): relative error ~h^2; and u.Hv = v.Hu.
+  auto d = newton_deck();
+  d.solver.relaxation = "monte-carlo";
+  auto st = make(d);
+  mc::Solver solver(d, st.s, st.f);
+  std::vector<std::int8_t> states;
+  int softening = 0, ruptured = 0;
+  for (int k = 1; k <= 40 && softening < 3; ++k) {  // the continuation, until joints soften at the notch
+    solver.set_load(0.0005 * k);
+    REQUIRE(solver.polish("fire", 1e-8).converged);
+    states = solver.interface_states();
+    softening = static_cast<int>(std::count(states.begin(), states.end(), std::int8_t{1}));
+    ruptured = static_cast<int>(std::count(states.begin(), states.end(), std::int8_t{2}));
+  }
+  const auto& m = solver.model();
+  INFO("D " << solver.load() << ": " << softening << " softening, " << ruptured << " ruptured");
+  REQUIRE(softening >= 3);  // the non-elastic branches are in play
+  const int nf = m.n_free;
+  auto base = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.pose, Kokkos::ALL, Kokkos::make_pair(0, 3)));
+  Host b0("b0", nf);
+  for (int b = 0; b < nf; ++b)
+    for (int c = 0; c < 3; ++c) b0(b, c) = base(b, c);
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  auto random_dir = [&] {
+    Host v("v", nf);
+    for (int b = 0; b < nf; ++b) v(b, 0) = U(gen), v(b, 1) = U(gen), v(b, 2) = 0.3 * U(gen);
+    return v;
+  };
+  mc::GradientView<> vd("nacre::test::v", nf), hv("nacre::test::hv", nf);
+  auto apply = [&](const Host& v) {
+    Kokkos::deep_copy(vd, v);
+    mc::hessian_vector(ExecSpace{}, m, vd, hv);
+    Host out("hv", nf);  // a copy of its own (a host mirror of a host View is the View itself)
+    Kokkos::deep_copy(out, hv);
+    return out;
+  };
+  int checked = 0;
+  std::vector<Host> dirs, prods;
+  for (int trial = 0; trial < 8; ++trial) {
+    const Host v = random_dir();
+    const Host H = apply(v);
+    dirs.push_back(v), prods.push_back(H);
+    const double h = 1e-7;
+    move(m, b0, v, h);
+    const bool same_p = solver.interface_states() == states;
+    const Host gp = gradient_now(m);
+    move(m, b0, v, -h);
+    const bool same_m = solver.interface_states() == states;
+    const Host gm = gradient_now(m);
+    move(m, b0, v, 0.0);
+    if (!same_p || !same_m) continue;  // a kink between: no derivative to compare
+    double err = 0, scale = 0;
+    for (int b = 0; b < nf; ++b)
+      for (int c = 0; c < 3; ++c) {
+        const double fd = (gp(b, c) - gm(b, c)) / (2 * h);
+        err = std::max(err, std::abs(fd - H(b, c)));
+        scale = std::max(scale, std::abs(H(b, c)));
+      }
+    INFO("trial " << trial << ": max |FD - Hv| " << err << " of max |Hv| " << scale);
+    CHECK(scale > 0);
+    CHECK(err <= 1e-5 * scale);
+    ++checked;
+  }
+  CHECK(checked >= 4);
+  for (std::size_t i = 0; i < dirs.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j) {
+      double uhv = 0, vhu = 0, norm = 0;
+      for (int b = 0; b < nf; ++b)
+        for (int c = 0; c < 3; ++c) {
+          uhv += dirs[i](b, c) * prods[j](b, c), vhu += dirs[j](b, c) * prods[i](b, c);
+          norm += std::abs(dirs[i](b, c) * prods[j](b, c));
+        }
+      CHECK(std::abs(uhv - vhu) <= 1e-10 * norm);
+    }
+  // the diagonal blocks are H applied to one brick's unit directions
+  mc::BlockView<> blocks("nacre::test::blocks", nf);
+  mc::hessian_blocks(ExecSpace{}, m, blocks);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, blocks);
+  for (const int b : {0, nf / 2, nf - 1}) {
+    for (int c = 0; c < 3; ++c) {
+      Host e("e", nf);
+      Kokkos::deep_copy(e, 0.0);
+      e(b, c) = 1.0;
+      const Host H = apply(e);
+      const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+      for (int r = 0; r < 3; ++r)
+        CHECK(H(b, r) == Catch::Approx(hb(b, idx[r][c])).epsilon(1e-10).margin(1e-12 * std::abs(hb(b, 0))));
+    }
+  }
+}
+
+TEST_CASE("relaxation = \"newton\" reaches the elastic minimum of the closed form in a few steps",
+          "[mc][newton][physics]") {
+  auto d = newton_deck();
+  d.geometry.notch_length = 0.0;
+  auto st = make(d);
+  const double D = 1e-4;  // separations ~1e-5 << x1: quadratic regime
+  const double exact = test::exact_elastic_energy(d, st.s, st.f, D);
+  mc::Solver solver(d, st.s, st.f);
+  solver.set_load(D);
+  const double e_start = solver.energy();
+  const auto r = solver.polish("trust-region", 1e-11);
+  const double e = solver.energy();
+  INFO("exact " << exact << ", Newton " << e << " in " << r.iterations << " steps, " << r.inner_iterations
+                << " CG iterations, residual " << r.residual);
+  CHECK(r.converged);
+  CHECK(e_start > 2 * exact);
+  CHECK(r.iterations <= 10);
+  CHECK(e == Catch::Approx(exact).epsilon(1e-6));  // the small-rotation closed form (geometric terms ~1e-6)
+}
+
+TEST_CASE("relaxation = \"newton\" follows a cracking load path, each step to the residual, deterministic",
+          "[mc][newton][determinism]") {
+  auto st = make(newton_deck());
+  auto run = [&](const Backend& b) {
+    mc::Solver solver(b, st.d, st.s, st.f);
+    std::vector<mc::StepRecord> rows;
+    solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });
+    REQUIRE_FALSE(solver.failed());
+    return rows;
+  };
+  const auto ref = run(Backend{});
+  REQUIRE(ref.size() >= 4);
+  CHECK(ref.back().ruptured > 0);  // the crack ran
+  long newton_steps = 0;
+  for (const auto& r : ref) {
+    CAPTURE(r.step, r.displacement, r.residual, r.polish_iterations, r.inner_iterations);
+    CHECK(r.converged);
+    CHECK(r.residual < 1e-9);
+    CHECK(r.cycles == 0);  // no Monte Carlo
+    CHECK(r.method == "newton");
+    CHECK(r.inner_iterations > 0);
+    newton_steps += r.polish_iterations;
+  }
+  CHECK(newton_steps < 60L * static_cast<long>(ref.size()));  // tens per step, not FIRE's thousands
+  for (const auto& name : Backend::names()) {  // a repeat, and every backend: the same bits
+    INFO("backend " << name);
+    const auto again = run(Backend::parse(name));
+    REQUIRE(again.size() == ref.size());
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+      CHECK(again[k].energy == ref[k].energy);
+      CHECK(again[k].residual == ref[k].residual);
+      CHECK(again[k].inner_iterations == ref[k].inner_iterations);
+    }
+  }
+}
+
+TEST_CASE("relaxation = \"auto\" escapes the ruptured plateau where Newton stops", "[mc][newton][metastable]") {
+  // The notched specimen loaded in one jump to D = 0.012 (tests/test_polish.cpp: FIRE from rest
+  // pulls the loaded row off onto a plateau of ruptured joints with zero gradient). Newton from
+  // rest stops there too (residual zero); "auto" sees joints rupture in the step, runs a Monte
+  // Carlo burst, Newton again, and keeps the lower state.
+  auto d = newton_deck("auto");
+  d.load.initial_step = d.load.min_step = d.load.max_step = 0.012;
+  d.load.final_displacement = 0.012;
+  d.load.adaptive = false, d.load.predictor = false;
+  d.solver.burst_cycles = 500;
+  auto st = make(d);
+  mc::Solver newton(d, st.s, st.f);
+  newton.set_load(0.012);
+  REQUIRE(newton.polish("trust-region", 1e-9).converged);
+  const double e_newton = newton.energy();
+  const int r_newton = newton.ruptured();
+  mc::Solver automatic(d, st.s, st.f);
+  std::vector<mc::StepRecord> rows;
+  automatic.run([&](const mc::StepRecord& r) { rows.push_back(r); });
+  REQUIRE(rows.size() == 1);
+  INFO("Newton from rest: E " << e_newton << ", " << r_newton << " ruptured; auto: E " << rows[0].energy << ", "
+                              << rows[0].ruptured << " ruptured, " << rows[0].cycles << " cycles, " << rows[0].method);
+  CHECK(rows[0].converged);
+  CHECK(rows[0].cycles > 0);
+  CHECK(rows[0].method == "newton+monte-carlo");
+  CHECK(rows[0].energy < 0.6 * e_newton);
+  CHECK(rows[0].ruptured < r_newton);
+}
