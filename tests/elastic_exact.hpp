@@ -17,7 +17,7 @@ namespace nacre::test {
 /// Exact minimum of the linearised spring network: E(q) = 1/2 sum_i k L int |B(s) q|^2 ds with
 /// small-rotation kinematics, driven dofs prescribed, solved by sparse Cholesky (Eigen).
 inline double exact_elastic_energy(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-                            double D) {
+                                   double D) {
   const int n = static_cast<int>(s.size());
   const loading::Pattern lp{d.load.tension, d.load.bending, d.geometry.width};
   Eigen::VectorXd q = Eigen::VectorXd::Zero(3 * n);
@@ -57,8 +57,10 @@ inline double exact_elastic_energy(const deck::Deck& d, const geometry::Specimen
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, col); it; ++it) {
       const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
       if (map[r] < 0) continue;
-      if (map[c] >= 0) tff.emplace_back(map[r], map[c], it.value());
-      else rhs(map[r]) -= it.value() * q(c);
+      if (map[c] >= 0)
+        tff.emplace_back(map[r], map[c], it.value());
+      else
+        rhs(map[r]) -= it.value() * q(c);
     }
   Eigen::SparseMatrix<double> Kff(static_cast<long>(fi.size()), static_cast<long>(fi.size()));
   Kff.setFromTriplets(tff.begin(), tff.end());

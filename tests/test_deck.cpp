@@ -187,7 +187,8 @@ TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[dec
   cyclic.replace(cyclic.find(fin), fin.size(), "programme = [0.02, 0.01, 0.05]");
   CHECK_THAT(error_of(cyclic + "[solver]\nrelaxation = \"newton\"\n"),
              ContainsSubstring("solver.relaxation: the trust-region Newton method needs the reversible law"));
-  CHECK_THAT(error_of(cyclic + "[solver]\npolish = \"trust-region\"\n"), ContainsSubstring("solver.polish: the trust-region"));
+  CHECK_THAT(error_of(cyclic + "[solver]\npolish = \"trust-region\"\n"),
+             ContainsSubstring("solver.polish: the trust-region"));
   CHECK(parse_deck_string(cyclic + "[solver]\nrelaxation = \"auto\"\n", "deck.toml").solver.relaxation == "auto");
   CHECK(parse_deck_string(base + "[solver]\npolish = \"anneal\"\n", "deck.toml").solver.polish == "anneal");
   CHECK_THAT(error_of(base + "[solver]\nrelaxation = \"gradient\"\npolish = \"anneal\"\n"),

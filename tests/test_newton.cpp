@@ -62,8 +62,8 @@ Host gradient_now(const mc::Model<>& m) {
 void move(const mc::Model<>& m, const Host& base, const Host& v, double h) {
   auto p = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.pose);
   for (int b = 0; b < m.n_free; ++b) {
-    const auto f = kinematics::make_frame(kinematics::Pose{base(b, 0) + h * v(b, 0), base(b, 1) + h * v(b, 1),
-                                                           base(b, 2) + h * v(b, 2)});
+    const auto f = kinematics::make_frame(
+        kinematics::Pose{base(b, 0) + h * v(b, 0), base(b, 1) + h * v(b, 1), base(b, 2) + h * v(b, 2)});
     p(b, 0) = f.x, p(b, 1) = f.y, p(b, 2) = f.t, p(b, 3) = f.s, p(b, 4) = f.c1;
   }
   Kokkos::deep_copy(m.pose, p);
@@ -71,8 +71,7 @@ void move(const mc::Model<>& m, const Host& base, const Host& v, double h) {
 
 }  // namespace
 
-TEST_CASE("H v is the directional derivative of the exact gradient, and H is symmetric",
-          "[mc][newton][physics]") {
+TEST_CASE("H v is the directional derivative of the exact gradient, and H is symmetric", "[mc][newton][physics]") {
   // A loaded notched specimen relaxed by FIRE: its joints span the elastic, plateau and
   // softening branches. For random directions v, H v (dual numbers through the gradient code)
   // against central differences of the exact gradient with steps that cross no kink (the
@@ -94,7 +93,8 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
   INFO("D " << solver.load() << ": " << softening << " softening, " << ruptured << " ruptured");
   REQUIRE(softening >= 3);  // the non-elastic branches are in play
   const int nf = m.n_free;
-  auto base = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(m.pose, Kokkos::ALL, Kokkos::make_pair(0, 3)));
+  auto base = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{},
+                                                  Kokkos::subview(m.pose, Kokkos::ALL, Kokkos::make_pair(0, 3)));
   Host b0("b0", nf);
   for (int b = 0; b < nf; ++b)
     for (int c = 0; c < 3; ++c) b0(b, c) = base(b, c);
@@ -212,7 +212,7 @@ TEST_CASE("relaxation = \"newton\" follows a cracking load path, each step to th
     newton_steps += r.polish_iterations;
   }
   CHECK(newton_steps < 60L * static_cast<long>(ref.size()));  // tens per step, not FIRE's thousands
-  for (const auto& name : Backend::names()) {  // a repeat, and every backend: the same bits
+  for (const auto& name : Backend::names()) {                 // a repeat, and every backend: the same bits
     INFO("backend " << name);
     const auto again = run(Backend::parse(name));
     REQUIRE(again.size() == ref.size());

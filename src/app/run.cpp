@@ -131,11 +131,9 @@ mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, 
 class MonteCarloRun {
 public:
   MonteCarloRun(deck::Deck d, const RunOptions& opt)
-      : d_(std::move(d)),
-        opt_(opt),
+      : d_(std::move(d)), opt_(opt),
         session_(d_, opt.quiet, opt.tty, opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)),
-        log_(session_.log()),
-        text_(physics_text(d_)), print_(fingerprint(text_)) {
+        log_(session_.log()), text_(physics_text(d_)), print_(fingerprint(text_)) {
     Kokkos::Profiling::ScopedRegion region("nacre::geometry::build");
     build(d_, specimen_, interfaces_, n_free_);
   }

@@ -14,7 +14,8 @@ PolishMethod parse_polish_method(const std::string& name) {
   for (const auto m :
        {PolishMethod::fire, PolishMethod::newton, PolishMethod::trust_region, PolishMethod::anneal, PolishMethod::none})
     if (name == polish_method_name(m)) return m;
-  throw std::invalid_argument("unknown polish method '" + name + "' (expected fire, newton, trust-region, anneal or none)");
+  throw std::invalid_argument("unknown polish method '" + name +
+                              "' (expected fire, newton, trust-region, anneal or none)");
 }
 
 const char* polish_method_name(PolishMethod m) {

@@ -27,7 +27,8 @@ Relaxation parse_relaxation(const deck::Deck& d) {
   const std::string& r = d.solver.relaxation;
   if (r == "gradient") return Relaxation::gradient;
   if (r == "newton") return Relaxation::newton;
-  if (r == "auto") return d.mortar.damage == cohesive::Damage::irreversible ? Relaxation::monte_carlo : Relaxation::automatic;
+  if (r == "auto")
+    return d.mortar.damage == cohesive::Damage::irreversible ? Relaxation::monte_carlo : Relaxation::automatic;
   return Relaxation::monte_carlo;
 }
 

@@ -129,8 +129,8 @@ private:
   double residual_ = 0;   ///< of the last relax()
   long step_polish_ = 0;  ///< polish iterations of the last relax()
   long step_inner_ = 0;   ///< CG iterations of the last relax() (trust region)
-  std::string step_method_;  ///< what finished the last relax() (StepRecord::method)
-  int step_ruptured0_ = 0;  ///< ruptured joints at the start of the load step (relaxation = "auto")
+  std::string step_method_;       ///< what finished the last relax() (StepRecord::method)
+  int step_ruptured0_ = 0;        ///< ruptured joints at the start of the load step (relaxation = "auto")
   Model<>::PoseView burst_pose_;  ///< relaxation = "auto": Newton's state while a burst looks for a lower one
   bool failed_ = false;
   StepRecord failed_step_;

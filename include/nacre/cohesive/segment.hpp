@@ -315,9 +315,8 @@ KOKKOS_INLINE_FUNCTION void graded_traction(const Law& m, int br, const BasicGap
   const double dir = to >= from ? 1.0 : -1.0;
   for (int it = 0; it < kMaxSubpieces && left > 0.0; ++it) {
     const T gx = g.g0x + s * l.dx, gy = g.g0y + s * l.dy;
-    const T h = (it == kMaxSubpieces - 1 || !(len > 0.0))
-                         ? left
-                         : sc::fmin(left, 0.5 * sc::sqrt(gx * gx + gy * gy) / len);
+    const T h =
+        (it == kMaxSubpieces - 1 || !(len > 0.0)) ? left : sc::fmin(left, 0.5 * sc::sqrt(gx * gx + gy * gy) / len);
     const T next = h >= left ? to : s + dir * h;
     gauss8_traction(m, br, g, l, sc::fmin(s, next), sc::fmax(s, next), f);
     s = next, left -= h;

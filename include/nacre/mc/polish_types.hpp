@@ -16,21 +16,21 @@ const char* polish_method_name(PolishMethod m);
 /// \brief What a polish is asked to do.
 struct PolishOptions {
   PolishMethod method = PolishMethod::fire;
-  double tolerance = 1e-6;      ///< residual to reach
-  int max_iterations = 5000;    ///< FIRE steps, Newton sweeps or trust-region Newton steps
+  double tolerance = 1e-6;         ///< residual to reach
+  int max_iterations = 5000;       ///< FIRE steps, Newton sweeps or trust-region Newton steps
   int max_inner_iterations = 500;  ///< CG iterations per trust-region Newton step
-  double rotation_length = 1.0; ///< l of the FIRE coordinates (x, y, l theta)
-  double stiffness = 1.0;       ///< K of one brick (sets FIRE's time steps: dt_max = 1 / sqrt(K))
+  double rotation_length = 1.0;    ///< l of the FIRE coordinates (x, y, l theta)
+  double stiffness = 1.0;          ///< K of one brick (sets FIRE's time steps: dt_max = 1 / sqrt(K))
 };
 
 /// \brief What a polish did.
 struct PolishResult {
-  int iterations = 0;   ///< FIRE steps / Newton sweeps taken
-  int rejected = 0;     ///< FIRE / trust-region steps rejected by the energy test
+  int iterations = 0;         ///< FIRE steps / Newton sweeps taken
+  int rejected = 0;           ///< FIRE / trust-region steps rejected by the energy test
   long inner_iterations = 0;  ///< CG iterations (trust region)
   bool stalled = false;       ///< the trust region collapsed before the tolerance (trust region)
-  double residual = 0;  ///< residual at the end
-  double energy_change = 0;  ///< sum of the accepted energy changes (<= 0)
+  double residual = 0;        ///< residual at the end
+  double energy_change = 0;   ///< sum of the accepted energy changes (<= 0)
   bool converged = false;
 };
 

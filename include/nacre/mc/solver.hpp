@@ -30,9 +30,9 @@ struct StepRecord {
   int reverts = 0;
   double seconds = 0;
   double residual = 0;        ///< largest generalised force on a free brick / its scale (gradient.hpp)
-  long polish_iterations = 0; ///< FIRE steps / Newton sweeps / trust-region Newton steps of the step
-  long inner_iterations = 0;  ///< CG iterations of the trust-region Newton steps
-  std::string method;         ///< what finished the step: monte-carlo, gradient, newton, newton+monte-carlo
+  long polish_iterations = 0;  ///< FIRE steps / Newton sweeps / trust-region Newton steps of the step
+  long inner_iterations = 0;   ///< CG iterations of the trust-region Newton steps
+  std::string method;          ///< what finished the step: monte-carlo, gradient, newton, newton+monte-carlo
   bool last = false;          ///< the step that reached the programme's last target: the run is done
 };
 

@@ -92,7 +92,6 @@ public:
   void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
 
 private:
-
   GradientView<> step_, r_, y_, d_, hd_, save_;
   BlockView<> minv_, mblk_;
 };
@@ -102,21 +101,22 @@ private:
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a,
                                         const GradientView<>& b, int nf) const {
-  return deterministic_sum(space, "nacre::mc::newton::dot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
-    return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2);
-  });
+  return deterministic_sum(
+      space, "nacre::mc::newton::dot", ws, 0, nf,
+      KOKKOS_LAMBDA(const int i) { return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2); });
 }
 
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a,
                                          const GradientView<>& b, int nf) const {
   auto M = mblk_;
-  return deterministic_sum(space, "nacre::mc::newton::mdot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
-    const double b0 = b(i, 0), b1 = b(i, 1), b2 = b(i, 2);
-    return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
-           a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
-           a(i, 2) * (M(i, 4) * b0 + M(i, 5) * b1 + M(i, 2) * b2);
-  });
+  return deterministic_sum(
+      space, "nacre::mc::newton::mdot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+        const double b0 = b(i, 0), b1 = b(i, 1), b2 = b(i, 2);
+        return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
+               a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
+               a(i, 2) * (M(i, 4) * b0 + M(i, 5) * b1 + M(i, 2) * b2);
+      });
 }
 
 template <class ExecutionSpace>
@@ -129,23 +129,25 @@ void TrustRegion<ExecutionSpace>::add_scaled(const ExecutionSpace& space, const 
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws,
-                                               const GradientView<>& g, int nf) const {
+double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g,
+                                               int nf) const {
   auto Minv = minv_;
-  return deterministic_sum(space, "nacre::mc::newton::gnorm", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
-    const double a = g(i, 0), b = g(i, 1), c = g(i, 2);
-    return a * (Minv(i, 0) * a + Minv(i, 3) * b + Minv(i, 4) * c) +
-           b * (Minv(i, 3) * a + Minv(i, 1) * b + Minv(i, 5) * c) +
-           c * (Minv(i, 4) * a + Minv(i, 5) * b + Minv(i, 2) * c);
-  });
+  return deterministic_sum(
+      space, "nacre::mc::newton::gnorm", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+        const double a = g(i, 0), b = g(i, 1), c = g(i, 2);
+        return a * (Minv(i, 0) * a + Minv(i, 3) * b + Minv(i, 4) * c) +
+               b * (Minv(i, 3) * a + Minv(i, 1) * b + Minv(i, 5) * c) +
+               c * (Minv(i, 4) * a + Minv(i, 5) * b + Minv(i, 2) * c);
+      });
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws,
-                                                const Field<double>& e, int ni) const {
+double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e,
+                                                int ni) const {
   return 4 * DBL_EPSILON *
-         deterministic_sum(space, "nacre::mc::newton::energy_scale", ws, 0, ni,
-                           KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+         deterministic_sum(
+             space, "nacre::mc::newton::energy_scale", ws, 0, ni,
+             KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
 }
 
 template <class ExecutionSpace>
@@ -201,7 +203,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
   on_boundary = false;
   double ry = dot(space, ws, r, y, nf);
   const double stop = eta * eta * ry;  // ||r||_{M^-1}^2 <= eta^2 ||g||_{M^-1}^2
-  double zz = 0.0;                    // ||z||_M^2, kept up to date
+  double zz = 0.0;                     // ||z||_M^2, kept up to date
   int it = 0;
   auto finish_on_boundary = [&](double zd, double dd) {
     add_scaled(space, z, d, detail::to_boundary(zz, zd, dd, radius), nf);
@@ -223,8 +225,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
       break;
     }
     Kokkos::parallel_for(
-        "nacre::mc::newton::cg_update", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
-        KOKKOS_LAMBDA(const int i) {
+        "nacre::mc::newton::cg_update", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int i) {
           for (int k = 0; k < 3; ++k) z(i, k) += alpha * d(i, k), r(i, k) += alpha * hd(i, k);
           const double r0 = r(i, 0), r1 = r(i, 1), r2 = r(i, 2);
           y(i, 0) = Minv(i, 0) * r0 + Minv(i, 3) * r1 + Minv(i, 4) * r2;
@@ -289,16 +290,16 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         "nacre::mc::newton::move", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
           save(b, 0) = pose(b, 0), save(b, 1) = pose(b, 1), save(b, 2) = pose(b, 2);
           store_frame(pose, b,
-                      kinematics::make_frame(kinematics::Pose{pose(b, 0) + z(b, 0), pose(b, 1) + z(b, 1),
-                                                              pose(b, 2) + z(b, 2)}));
+                      kinematics::make_frame(
+                          kinematics::Pose{pose(b, 0) + z(b, 0), pose(b, 1) + z(b, 1), pose(b, 2) + z(b, 2)}));
         });
     auto en = e, et = trial;
-    const double dE = deterministic_sum(space, "nacre::mc::newton::energy_change", ws, 0, ni,
-                                        KOKKOS_LAMBDA(const int i) {
-                                          const double v = ev.energy(i);
-                                          et(i) = v;
-                                          return v - en(i);
-                                        });
+    const double dE = deterministic_sum(
+        space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
+          const double v = ev.energy(i);
+          et(i) = v;
+          return v - en(i);
+        });
     // below the rounding of the energy the ratio means nothing: the residual decides
     const double old_residual = r.residual;
     double rho;
@@ -323,8 +324,10 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
           });
       brick_gradient(space, m, grad);
     }
-    if (rho < 0.25) radius = 0.25 * snorm;
-    else if (rho > 0.75 && boundary) radius = 2.0 * radius;
+    if (rho < 0.25)
+      radius = 0.25 * snorm;
+    else if (rho > 0.75 && boundary)
+      radius = 2.0 * radius;
     if (!(radius > 1e-14 * g0)) {  // the region collapsed: a stall (a kink or a flat plateau)
       r.stalled = true;
       break;

@@ -52,8 +52,10 @@ void read_solver(Section& top, Deck& d) {
   s.string("relaxation", S.relaxation, {"monte-carlo", "gradient", "newton", "auto"},
            "one of \"monte-carlo\", \"gradient\", \"newton\", \"auto\"");
   if (S.relaxation == "gradient" && S.polish != "fire" && S.polish != "newton" && S.polish != "trust-region")
-    s.fail("relaxation", "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\", "
-                         "\"newton\" or \"trust-region\", not \"" + S.polish + "\"");
+    s.fail("relaxation",
+           "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\", "
+           "\"newton\" or \"trust-region\", not \"" +
+               S.polish + "\"");
   // the trust region needs the Hessian of the reversible law (mc/hessian.hpp); "auto" falls back
   // to Monte Carlo with the polish there (docs/decks.md)
   if (d.mortar.damage == cohesive::Damage::irreversible && (S.relaxation == "newton" || S.polish == "trust-region"))
@@ -70,13 +72,33 @@ void read_solver(Section& top, Deck& d) {
   check_bracket(s, "rot_step", S.rot_step, S.min_rot_step, S.max_rot_step, "min_rot_step");
   if (S.window_upper_mul < S.window_mul)
     s.fail("window_upper_mul", "upper cycle bound below the target; expected WindowUpperMul >= WindowMul");
-  s.reject_unknown({"temperature (TEMP)", "step (InitialStepSize)", "min_step (MinStepSize)",
-                    "max_step (MaxStepSize)", "rot_step (InitialRotSize)", "min_rot_step (MinRotSize)",
-                    "max_rot_step (MaxRotSize)", "adapt_interval (AdaptInter)", "step_mode", "stol (STOL)", "rtol (RTOL)",
-                    "stol_mode", "window_size (WindowSize)", "convergence_rep (ConvergenceRep)",
-                    "window_mul (WindowMul)", "window_upper_mul (WindowUpperMul)", "max_cycles",
-                    "colouring", "presim_cycles", "convergence", "residual_tolerance",
-                    "polish", "polish_iterations", "cg_iterations", "burst_cycles", "relaxation", "AmpFactor",
+  s.reject_unknown({"temperature (TEMP)",
+                    "step (InitialStepSize)",
+                    "min_step (MinStepSize)",
+                    "max_step (MaxStepSize)",
+                    "rot_step (InitialRotSize)",
+                    "min_rot_step (MinRotSize)",
+                    "max_rot_step (MaxRotSize)",
+                    "adapt_interval (AdaptInter)",
+                    "step_mode",
+                    "stol (STOL)",
+                    "rtol (RTOL)",
+                    "stol_mode",
+                    "window_size (WindowSize)",
+                    "convergence_rep (ConvergenceRep)",
+                    "window_mul (WindowMul)",
+                    "window_upper_mul (WindowUpperMul)",
+                    "max_cycles",
+                    "colouring",
+                    "presim_cycles",
+                    "convergence",
+                    "residual_tolerance",
+                    "polish",
+                    "polish_iterations",
+                    "cg_iterations",
+                    "burst_cycles",
+                    "relaxation",
+                    "AmpFactor",
                     "StructSteps"});
 }
 
