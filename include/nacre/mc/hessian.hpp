@@ -106,4 +106,44 @@ void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, co
       });
 }
 
+/// \brief Off-diagonal blocks per adjacency slot: slots(j, 3 r + k) = d g_b(r) / d x_c(k) for slot
+/// j of free brick b whose other brick c is free (zero where c is driven); LayoutRight: a
+/// slot's 9 values together. With hessian_blocks, the whole sparse Hessian (the brick graph's
+/// pattern), for a factorised preconditioner (hessian_factor.hpp).
+template <class MemorySpace = MemSpace>
+using SlotBlockView = Kokkos::View<double* [9], Kokkos::LayoutRight, MemorySpace>;
+
+template <class ExecutionSpace, class MemorySpace>
+void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, const SlotBlockView<MemorySpace>& slots) {
+  check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(!m.hist.data(), "hessian_slots: the reversible law only");
+  const InterfaceEvaluator<MemorySpace> ev(m);
+  auto off = m.adj_offset, adj = m.adj_iface;
+  const int nf = m.n_free;
+  Kokkos::parallel_for(
+      "nacre::mc::newton::hessian_slots", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
+      KOKKOS_LAMBDA(const int b) {
+        for (int j = off(b); j < off(b + 1); ++j) {
+          const int i = adj(j);
+          const int a = ev.ends(i, 0), c = ev.ends(i, 1);
+          const int other = a == b ? c : a;
+          for (int q = 0; q < 9; ++q) slots(j, q) = 0.0;
+          if (other >= nf) continue;  // a driven neighbour: no unknowns
+          const kinematics::Segment sg = load_segment(ev.seg, i);
+          const kinematics::Frame fb = frame_of(ev.pose, b), fo = frame_of(ev.pose, other);
+          const auto mine = kinematics::make_frame(ad::Dual{fb.x}, ad::Dual{fb.y}, ad::Dual{fb.t});
+          for (int k = 0; k < 3; ++k) {
+            const auto seeded = kinematics::make_frame(ad::Dual{fo.x, k == 0 ? 1.0 : 0.0},
+                                                       ad::Dual{fo.y, k == 1 ? 1.0 : 0.0},
+                                                       ad::Dual{fo.t, k == 2 ? 1.0 : 0.0});
+            ad::Dual ga[3], gc[3];
+            if (a == b) kinematics::interface_gradient(ev.law(i), sg, mine, seeded, ga, gc);
+            else kinematics::interface_gradient(ev.law(i), sg, seeded, mine, ga, gc);
+            const ad::Dual* g = a == b ? ga : gc;
+            for (int r = 0; r < 3; ++r) slots(j, 3 * r + k) = g[r].d;
+          }
+        }
+      });
+}
+
 }  // namespace nacre::mc

@@ -13,12 +13,17 @@ PolishMethod parse_polish_method(const std::string& name);
 /// \brief The deck's spelling of `m`.
 const char* polish_method_name(PolishMethod m);
 
+/// \brief The trust-region Newton method's preconditioner (deck key newton_preconditioner):
+/// the sparse Cholesky factor of the (shifted) Hessian on host memory, else 3x3 block-Jacobi.
+enum class NewtonPreconditioner { automatic, cholesky, block_jacobi };
+
 /// \brief What a polish is asked to do.
 struct PolishOptions {
   PolishMethod method = PolishMethod::fire;
   double tolerance = 1e-6;         ///< residual to reach
   int max_iterations = 5000;       ///< FIRE steps, Newton sweeps or trust-region Newton steps
   int max_inner_iterations = 500;  ///< CG iterations per trust-region Newton step
+  NewtonPreconditioner preconditioner = NewtonPreconditioner::automatic;
   double rotation_length = 1.0;    ///< l of the FIRE coordinates (x, y, l theta)
   double stiffness = 1.0;          ///< K of one brick (sets FIRE's time steps: dt_max = 1 / sqrt(K))
 };
