@@ -4,6 +4,7 @@
 // the cohesive law are checked the same way, and then the whole Monte Carlo solver on each backend
 // a run can choose. (Which backends ran is printed by the first test.)
 #include "backends.hpp"
+#include "wall_specimen.hpp"
 
 #include <nacre/aes/aes128.hpp>
 #include <nacre/cohesive/segment.hpp>
@@ -269,14 +270,9 @@ TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a che
   auto d = backend_deck();
   d.output.hdf5 = false, d.output.charts = false;
   d.solver.colouring = "tiles";
+    test::cracking_path(d);
   d.load.final_displacement = 0.012;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
-  d.solver.adapt_interval = 20, d.solver.window_size = 60, d.solver.convergence_rep = 20;  // short windows
-  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+  test::short_windows(d);
   auto s = geometry::build_specimen(d.geometry);  // (find_interfaces annotates it)
   const auto f = geometry::find_interfaces(s, d.geometry);
   struct Path {

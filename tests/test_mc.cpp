@@ -44,13 +44,8 @@ deck::Deck small_deck() {
 /// A notched specimen that cracks within a few adaptive load steps, with predictor.
 deck::Deck cracking_deck() {
   auto d = small_deck();
-  test::notched_21x8(d);
-  d.load.final_displacement = 0.02;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+    test::notched_21x8(d);
+  test::cracking_path(d);
   return d;
 }
 

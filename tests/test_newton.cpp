@@ -23,31 +23,15 @@ namespace {
 
 /// The notched 21 x 8 specimen of the polish tests, relaxed by Newton.
 deck::Deck newton_deck(const char* relaxation = "newton") {
-  auto d = test::notched_21x8_deck();
-  d.load.final_displacement = 0.02;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
-  d.solver.adapt_interval = 20;
-  d.solver.window_size = 60, d.solver.convergence_rep = 20;
-  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+    auto d = test::notched_21x8_deck();
+  test::cracking_path(d);
+  test::short_windows(d);
   d.solver.residual_tolerance = 1e-9;
   d.solver.relaxation = relaxation;
   return d;
 }
 
-struct Setup {
-  deck::Deck d;
-  geometry::Specimen s;
-  geometry::Interfaces f;
-};
-Setup make(deck::Deck d) {
-  Setup st{d, geometry::build_specimen(d.geometry), {}};
-  st.f = geometry::find_interfaces(st.s, d.geometry);
-  return st;
-}
+test::Setup make(deck::Deck d) { return test::make_setup(std::move(d)); }
 
 using Host = Kokkos::View<double* [3], Kokkos::LayoutLeft, Kokkos::HostSpace>;
 

@@ -19,16 +19,9 @@ namespace {
 
 /// A notched specimen (21 x 8, notch 8) that cracks by D = 0.02.
 deck::Deck notched_deck() {
-  auto d = test::notched_21x8_deck();
-  d.load.final_displacement = 0.02;
-  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
-  d.solver.temperature = 1e-7;
-  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
-  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
-  d.solver.adapt_interval = 20;
-  d.solver.window_size = 60, d.solver.convergence_rep = 20;
-  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+    auto d = test::notched_21x8_deck();
+  test::cracking_path(d);
+  test::short_windows(d);
   d.solver.colouring = "tiles";
   d.output.hdf5 = false, d.output.charts = false;
   return d;

@@ -45,6 +45,37 @@ inline void notched_21x8(deck::Deck& d) {
   d.mortar.head = {100.0, 0.001, 0.002};
 }
 
+/// The cracking load path of the Monte Carlo tests on that specimen: adaptive increments 0.004
+/// (0.002 to 0.006) with the predictor to D = 0.02, a cold chain (T 1e-7) whose trial steps
+/// adapt between 1e-7 and 1e-3.
+inline void cracking_path(deck::Deck& d) {
+  d.load.final_displacement = 0.02;
+  d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
+  d.load.adaptive = true, d.load.predictor = true;
+  d.solver.temperature = 1e-7;
+  d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
+  d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;
+}
+
+/// Short windows (a load step converges in hundreds of cycles, not tens of thousands).
+inline void short_windows(deck::Deck& d) {
+  d.solver.adapt_interval = 20;
+  d.solver.window_size = 60, d.solver.convergence_rep = 20;
+  d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
+}
+
+/// A deck with its specimen and interfaces.
+struct Setup {
+  deck::Deck d;
+  geometry::Specimen s;
+  geometry::Interfaces f;
+};
+inline Setup make_setup(deck::Deck d) {
+  Setup st{d, geometry::build_specimen(d.geometry), {}};
+  st.f = geometry::find_interfaces(st.s, d.geometry);
+  return st;
+}
+
 /// A default deck on that specimen, loaded in tension + bending (opening D/2 (1 + 0.5 (1 - x/w))).
 inline deck::Deck notched_21x8_deck() {
   deck::Deck d;
