@@ -270,7 +270,7 @@ TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a che
   auto d = backend_deck();
   d.output.hdf5 = false, d.output.charts = false;
   d.solver.colouring = "tiles";
-    test::cracking_path(d);
+  test::cracking_path(d);
   d.load.final_displacement = 0.012;
   test::short_windows(d);
   auto s = geometry::build_specimen(d.geometry);  // (find_interfaces annotates it)

@@ -44,7 +44,7 @@ deck::Deck small_deck() {
 /// A notched specimen that cracks within a few adaptive load steps, with predictor.
 deck::Deck cracking_deck() {
   auto d = small_deck();
-    test::notched_21x8(d);
+  test::notched_21x8(d);
   test::cracking_path(d);
   return d;
 }

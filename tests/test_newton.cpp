@@ -23,7 +23,7 @@ namespace {
 
 /// The notched 21 x 8 specimen of the polish tests, relaxed by Newton.
 deck::Deck newton_deck(const char* relaxation = "newton") {
-    auto d = test::notched_21x8_deck();
+  auto d = test::notched_21x8_deck();
   test::cracking_path(d);
   test::short_windows(d);
   d.solver.residual_tolerance = 1e-9;

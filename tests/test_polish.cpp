@@ -19,7 +19,7 @@ namespace {
 
 /// A notched specimen (21 x 8, notch 8) that cracks by D = 0.02.
 deck::Deck notched_deck() {
-    auto d = test::notched_21x8_deck();
+  auto d = test::notched_21x8_deck();
   test::cracking_path(d);
   test::short_windows(d);
   d.solver.colouring = "tiles";

@@ -91,7 +91,7 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
   source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
   m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
   allocate_work();
-    const std::string& pc = cfg_.mc.newton_preconditioner;
+  const std::string& pc = cfg_.mc.newton_preconditioner;
   polisher_ = Polisher<Exec>(space_, m_,
                              pc == "cholesky"       ? NewtonPreconditioner::cholesky
                              : pc == "block-jacobi" ? NewtonPreconditioner::block_jacobi

@@ -125,7 +125,7 @@ struct MonteCarlo {
   std::string polish = "fire";       ///< after the Monte Carlo relaxation: fire | newton | trust-region | anneal | none
   int polish_iterations = 20000;     ///< FIRE steps / Newton sweeps / trust-region steps per polish
   int cg_iterations = 500;           ///< CG iterations per trust-region Newton step
-    long burst_cycles = 200;           ///< relaxation = "auto": cycles of a Monte Carlo burst
+  long burst_cycles = 200;           ///< relaxation = "auto": cycles of a Monte Carlo burst
   std::string newton_preconditioner = "auto";  ///< auto | cholesky | block-jacobi (trust-region Newton)
   /// How a load step is relaxed: "monte-carlo" (Monte Carlo phases, then the polish),
   /// "gradient" (the polish method alone, from the predicted poses: a pure gradient minimiser

@@ -133,12 +133,14 @@ void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, con
           const kinematics::Frame fb = frame_of(ev.pose, b), fo = frame_of(ev.pose, other);
           const auto mine = kinematics::make_frame(ad::Dual{fb.x}, ad::Dual{fb.y}, ad::Dual{fb.t});
           for (int k = 0; k < 3; ++k) {
-            const auto seeded = kinematics::make_frame(ad::Dual{fo.x, k == 0 ? 1.0 : 0.0},
-                                                       ad::Dual{fo.y, k == 1 ? 1.0 : 0.0},
-                                                       ad::Dual{fo.t, k == 2 ? 1.0 : 0.0});
+            const auto seeded =
+                kinematics::make_frame(ad::Dual{fo.x, k == 0 ? 1.0 : 0.0}, ad::Dual{fo.y, k == 1 ? 1.0 : 0.0},
+                                       ad::Dual{fo.t, k == 2 ? 1.0 : 0.0});
             ad::Dual ga[3], gc[3];
-            if (a == b) kinematics::interface_gradient(ev.law(i), sg, mine, seeded, ga, gc);
-            else kinematics::interface_gradient(ev.law(i), sg, seeded, mine, ga, gc);
+            if (a == b)
+              kinematics::interface_gradient(ev.law(i), sg, mine, seeded, ga, gc);
+            else
+              kinematics::interface_gradient(ev.law(i), sg, seeded, mine, ga, gc);
             const ad::Dual* g = a == b ? ga : gc;
             for (int r = 0; r < 3; ++r) slots(j, 3 * r + k) = g[r].d;
           }

@@ -40,7 +40,7 @@ class Polisher {
 
 public:
   Polisher() = default;
-    Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic);
+  Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic);
 
   /// \brief The exact gradient at the current poses and its residual.
   double residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale);
@@ -68,7 +68,7 @@ Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m
   save_ = decltype(save_)(view_alloc(space, WithoutInitializing, "nacre::mc::polish::save"), nf);
   iface_e_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::energy"), ni);
   iface_trial_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::trial_energy"), ni);
-    tr_ = TrustRegion<ExecutionSpace>(space, m, pc);
+  tr_ = TrustRegion<ExecutionSpace>(space, m, pc);
 }
 
 template <class ExecutionSpace>

@@ -55,7 +55,7 @@ KOKKOS_INLINE_FUNCTION void block_inverse(const double h[6], const double floor[
 template <class ExecutionSpace>
 class TrustRegion {
 public:
-    TrustRegion() = default;
+  TrustRegion() = default;
   TrustRegion(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc) {
     const int n_free = m.n_free;
     using Kokkos::view_alloc, Kokkos::WithoutInitializing;
@@ -67,14 +67,15 @@ public:
     y_ = vec("nacre::mc::newton::preconditioned"), d_ = vec("nacre::mc::newton::direction");
     hd_ = vec("nacre::mc::newton::h_direction"), save_ = vec("nacre::mc::newton::save");
     minv_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
-        mblk_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
+    mblk_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
     md_ = vec("nacre::mc::newton::m_direction");
     constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
     if (pc == NewtonPreconditioner::cholesky && !host)
-      throw std::invalid_argument("newton_preconditioner = \"cholesky\" needs host memory (this build's models live "
-                                  "on a device); expected \"block-jacobi\" or \"auto\"");
+      throw std::invalid_argument(
+          "newton_preconditioner = \"cholesky\" needs host memory (this build's models live "
+          "on a device); expected \"block-jacobi\" or \"auto\"");
     if (pc == NewtonPreconditioner::cholesky || (pc == NewtonPreconditioner::automatic && host)) {
-            factor_ = std::make_shared<HessianFactor>();
+      factor_ = std::make_shared<HessianFactor>();
       ref_factor_ = std::make_shared<HessianFactor>();
       slots_ = SlotBlockView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::slot_blocks")),
                                static_cast<std::size_t>(m.adj_iface.extent(0)));
@@ -105,25 +106,25 @@ public:
   double minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g, int nf) const;
   /// 4 eps sum |e(i)|: the rounding of an energy change summed as per-interface differences
   double rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e, int ni) const;
-    /// the preconditioner from the Hessian at the current poses (floors: translation, rotation)
+  /// the preconditioner from the Hessian at the current poses (floors: translation, rotation)
   void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
   /// y = M^-1 r
   void precondition_apply(const ExecutionSpace& space, const GradientView<>& r, const GradientView<>& y, int nf) const;
   /// the relative shift of the last Cholesky factor (0: H was positive definite, or block-Jacobi)
-    [[nodiscard]] double shift() const { return active_ ? active_->shift() : 0.0; }
+  [[nodiscard]] double shift() const { return active_ ? active_->shift() : 0.0; }
   /// make the factor of the Hessian at zero poses (every joint elastic: the stiffness of the
   /// intact wall, state-independent) the active preconditioner, factorising it on first use
   void reference_factor(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
 
 private:
-    GradientView<> step_, r_, y_, d_, hd_, save_, md_;
+  GradientView<> step_, r_, y_, d_, hd_, save_, md_;
   BlockView<> minv_, mblk_;
-    std::shared_ptr<HessianFactor> factor_;      ///< Cholesky of H at a current state (null: block-Jacobi)
+  std::shared_ptr<HessianFactor> factor_;      ///< Cholesky of H at a current state (null: block-Jacobi)
   std::shared_ptr<HessianFactor> ref_factor_;  ///< Cholesky of H at zero poses (the intact wall)
   HessianFactor* active_ = nullptr;            ///< the one preconditioning now
   bool ref_ready_ = false;
-  static constexpr int kRefactorCg = 8;    ///< CG iterations above which the factor is renewed
-  int last_cg_ = 0;                        ///< CG iterations of the last Newton step
+  static constexpr int kRefactorCg = 8;  ///< CG iterations above which the factor is renewed
+  int last_cg_ = 0;                      ///< CG iterations of the last Newton step
   SlotBlockView<> slots_;
 };
 
@@ -140,13 +141,14 @@ double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspac
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a,
                                          const GradientView<>& b, int nf) const {
-    if (factor_) {  // M b on the host (the factor's matrix), then the dot
+  if (factor_) {  // M b on the host (the factor's matrix), then the dot
     space.fence("nacre::mc::newton::mdot");
-        active_->apply(b, md_);
+    active_->apply(b, md_);
     return dot(space, ws, a, md_, nf);
   }
   auto M = mblk_;
-  return deterministic_sum(space, "nacre::mc::newton::mdot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+  return deterministic_sum(
+      space, "nacre::mc::newton::mdot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
         const double b0 = b(i, 0), b1 = b(i, 1), b2 = b(i, 2);
         return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
                a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
@@ -166,12 +168,13 @@ void TrustRegion<ExecutionSpace>::add_scaled(const ExecutionSpace& space, const 
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g,
                                                int nf) const {
-    if (factor_) {
+  if (factor_) {
     precondition_apply(space, g, md_, nf);
     return dot(space, ws, g, md_, nf);
   }
   auto Minv = minv_;
-  return deterministic_sum(space, "nacre::mc::newton::gnorm", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+  return deterministic_sum(
+      space, "nacre::mc::newton::gnorm", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
         const double a = g(i, 0), b = g(i, 1), c = g(i, 2);
         return a * (Minv(i, 0) * a + Minv(i, 3) * b + Minv(i, 4) * c) +
                b * (Minv(i, 3) * a + Minv(i, 1) * b + Minv(i, 5) * c) +
@@ -191,11 +194,11 @@ double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, Sum
 template <class ExecutionSpace>
 void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<>& m, double floor_t,
                                                double floor_r) {
-    hessian_blocks(space, m, mblk_);
+  hessian_blocks(space, m, mblk_);
   if (factor_) {
     hessian_slots(space, m, slots_);
     space.fence("nacre::mc::newton::factor");
-        factor_->factor(m, mblk_, slots_, floor_t, floor_r);
+    factor_->factor(m, mblk_, slots_, floor_t, floor_r);
     active_ = factor_.get();
     return;
   }
@@ -238,7 +241,7 @@ void TrustRegion<ExecutionSpace>::precondition_apply(const ExecutionSpace& space
                                                      const GradientView<>& y, int nf) const {
   if (factor_) {
     space.fence("nacre::mc::newton::solve");
-        active_->solve(r, y);
+    active_->solve(r, y);
     return;
   }
   auto Minv = minv_;
@@ -266,7 +269,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
                                           bool& on_boundary) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::cg");
   const int nf = m.n_free;
-    auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
+  auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
   // z = 0, r = g, y = M^-1 r, d = -y
   Kokkos::parallel_for(
       "nacre::mc::newton::cg_start", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int i) {
@@ -302,7 +305,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
       break;
     }
     Kokkos::parallel_for(
-        "nacre::mc::newton::cg_update", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),         KOKKOS_LAMBDA(const int i) {
+        "nacre::mc::newton::cg_update", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int i) {
           for (int k = 0; k < 3; ++k) z(i, k) += alpha * d(i, k), r(i, k) += alpha * hd(i, k);
         });
     precondition_apply(space, r, y, nf);
@@ -339,7 +342,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         "nacre::mc::newton::interface_energy", Kokkos::RangePolicy<ExecutionSpace>(space, 0, ni),
         KOKKOS_LAMBDA(const int i) { en(i) = ev.energy(i); });
   }
-    double rounding = rounding_of(space, ws, e, ni);
+  double rounding = rounding_of(space, ws, e, ni);
   last_cg_ = 0;
   if (factor_) reference_factor(space, m, floor_t, floor_r);
   PolishResult r;
@@ -349,7 +352,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
   double g0 = 0.0;
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
     ++r.iterations;
-            // the preconditioner: block-Jacobi at every Newton step (cheap); with Cholesky, the intact
+    // the preconditioner: block-Jacobi at every Newton step (cheap); with Cholesky, the intact
     // wall's factor (made once per run, state-independent) until it serves CG badly (more than
     // kRefactorCg iterations: joints soften or rupture), then the factor of the current H for
     // the rest of the call. Every call starts from the intact wall's, so a run restarted between
@@ -360,7 +363,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     // forcing term: superlinear (eta ~ sqrt of the relative gradient), at most 0.5
     const double eta = std::min(0.5, std::sqrt(std::sqrt(gMg) / std::max(g0, 1e-300)));
     bool boundary = false;
-        last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary);
+    last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary);
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2), one more product
     hessian_vector(space, m, z, hd_);

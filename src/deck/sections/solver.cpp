@@ -48,7 +48,7 @@ void read_solver(Section& top, Deck& d) {
            "one of \"fire\", \"newton\", \"trust-region\", \"anneal\", \"none\"");
   s.integer("polish_iterations", {}, S.polish_iterations, 1, 100000000, "an integer >= 1");
   s.integer("cg_iterations", {}, S.cg_iterations, 1, 100000000, "an integer >= 1 (CG iterations per Newton step)");
-    s.integer("burst_cycles", {}, S.burst_cycles, 1, 1000000000, "a cycle count >= 1");
+  s.integer("burst_cycles", {}, S.burst_cycles, 1, 1000000000, "a cycle count >= 1");
   s.string("newton_preconditioner", S.newton_preconditioner, {"auto", "cholesky", "block-jacobi"},
            "one of \"auto\", \"cholesky\", \"block-jacobi\"");
   s.string("relaxation", S.relaxation, {"monte-carlo", "gradient", "newton", "auto"},
@@ -97,7 +97,9 @@ void read_solver(Section& top, Deck& d) {
                     "residual_tolerance",
                     "polish",
                     "polish_iterations",
-                    "cg_iterations", "burst_cycles", "newton_preconditioner",
+                    "cg_iterations",
+                    "burst_cycles",
+                    "newton_preconditioner",
                     "relaxation",
                     "AmpFactor",
                     "StructSteps"});
