@@ -22,6 +22,13 @@
 namespace nacre::mc {
 
 namespace detail {
+/// Frame f on dual numbers seeded with the unit direction k of its pose (0: x, 1: y, 2: theta;
+/// any other k: no seed, a frame held fixed).
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> unit_seeded(const kinematics::Frame& f, int k) {
+  return kinematics::make_frame(ad::Dual{f.x, k == 0 ? 1.0 : 0.0}, ad::Dual{f.y, k == 1 ? 1.0 : 0.0},
+                                ad::Dual{f.t, k == 2 ? 1.0 : 0.0});
+}
+
 /// Brick j's frame with its pose seeded by v (free bricks; driven ones stay put).
 template <class PV, class V>
 KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free) {
@@ -87,16 +94,11 @@ void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, co
       "nacre::mc::newton::hessian_blocks", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_free),
       KOKKOS_LAMBDA(const int b) {
         double H[3][3];
-        auto held = [&](int j) {
-          const kinematics::Frame f = frame_of(ev.pose, j);
-          return kinematics::make_frame(ad::Dual{f.x}, ad::Dual{f.y}, ad::Dual{f.t});
-        };
+                auto held = [&](int j) { return detail::unit_seeded(frame_of(ev.pose, j), -1); };
+        const kinematics::Frame f = frame_of(ev.pose, b);
         for (int k = 0; k < 3; ++k) {
-          const kinematics::Frame f = frame_of(ev.pose, b);
-          const kinematics::BasicFrame<ad::Dual> own = kinematics::make_frame(
-              ad::Dual{f.x, k == 0 ? 1.0 : 0.0}, ad::Dual{f.y, k == 1 ? 1.0 : 0.0}, ad::Dual{f.t, k == 2 ? 1.0 : 0.0});
           double col[3] = {0.0, 0.0, 0.0};
-          detail::brick_tangent(ev, off, adj, b, own, held, col);
+          detail::brick_tangent(ev, off, adj, b, detail::unit_seeded(f, k), held, col);
           H[0][k] = col[0], H[1][k] = col[1], H[2][k] = col[2];
         }
         // symmetric by construction up to rounding: store the mean of the two triangles
@@ -130,12 +132,10 @@ void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, con
           for (int q = 0; q < 9; ++q) slots(j, q) = 0.0;
           if (other >= nf) continue;  // a driven neighbour: no unknowns
           const kinematics::Segment sg = load_segment(ev.seg, i);
-          const kinematics::Frame fb = frame_of(ev.pose, b), fo = frame_of(ev.pose, other);
-          const auto mine = kinematics::make_frame(ad::Dual{fb.x}, ad::Dual{fb.y}, ad::Dual{fb.t});
+                    const kinematics::Frame fo = frame_of(ev.pose, other);
+          const auto mine = detail::unit_seeded(frame_of(ev.pose, b), -1);
           for (int k = 0; k < 3; ++k) {
-            const auto seeded =
-                kinematics::make_frame(ad::Dual{fo.x, k == 0 ? 1.0 : 0.0}, ad::Dual{fo.y, k == 1 ? 1.0 : 0.0},
-                                       ad::Dual{fo.t, k == 2 ? 1.0 : 0.0});
+            const auto seeded = detail::unit_seeded(fo, k);
             ad::Dual ga[3], gc[3];
             if (a == b)
               kinematics::interface_gradient(ev.law(i), sg, mine, seeded, ga, gc);
