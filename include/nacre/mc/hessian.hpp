@@ -94,7 +94,7 @@ void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, co
       "nacre::mc::newton::hessian_blocks", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_free),
       KOKKOS_LAMBDA(const int b) {
         double H[3][3];
-                auto held = [&](int j) { return detail::unit_seeded(frame_of(ev.pose, j), -1); };
+        auto held = [&](int j) { return detail::unit_seeded(frame_of(ev.pose, j), -1); };
         const kinematics::Frame f = frame_of(ev.pose, b);
         for (int k = 0; k < 3; ++k) {
           double col[3] = {0.0, 0.0, 0.0};
@@ -132,7 +132,7 @@ void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, con
           for (int q = 0; q < 9; ++q) slots(j, q) = 0.0;
           if (other >= nf) continue;  // a driven neighbour: no unknowns
           const kinematics::Segment sg = load_segment(ev.seg, i);
-                    const kinematics::Frame fo = frame_of(ev.pose, other);
+          const kinematics::Frame fo = frame_of(ev.pose, other);
           const auto mine = detail::unit_seeded(frame_of(ev.pose, b), -1);
           for (int k = 0; k < 3; ++k) {
             const auto seeded = detail::unit_seeded(fo, k);
