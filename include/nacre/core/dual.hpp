@@ -21,7 +21,7 @@ namespace nacre::ad {
 struct Dual {
   double v = 0.0;  ///< value
   double d = 0.0;  ///< derivative along the seeded direction
-  KOKKOS_INLINE_FUNCTION constexpr Dual() = default;
+  constexpr Dual() = default;  // (no annotation: nvcc ignores one on a defaulted constructor)
   KOKKOS_INLINE_FUNCTION constexpr Dual(double value) : v(value) {}  // NOLINT: constants promote
   KOKKOS_INLINE_FUNCTION constexpr Dual(double value, double derivative) : v(value), d(derivative) {}
   KOKKOS_INLINE_FUNCTION Dual& operator+=(const Dual& o) {
