@@ -368,7 +368,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     // fraction of the bandwidth bound: the bytes a unit must move at least (Simulation::step_bytes,
     // Solver::cycle_bytes) at the backend's triad rate; of the FMA bound: not estimated (nacre
     // does not count its flops)
-    const double of_triad = bounds[k].triad_gbs > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    const double of_triad = bounds[k].triad_gbs > 0 && b->bytes_per_unit > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
     // the uniform source's rate where it fills a table (aes-ctr, mt-aes; Philox is drawn inside the sweep)
     const auto rng_phase = b->phase.find("nacre::mc::rng");
     const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
