@@ -2,7 +2,9 @@
 # perf/run_scaling.sh): why one file: the build, the timing of one run and the job pool are the
 # same for both, and a fix to one (say, how a failed run is recorded) must reach the other.
 #
-#   app_build                 configure + build the app (preset openmp); sets APP
+#   app_build                 configure + build the app (preset openmp); sets APP (NACRE_APP, when
+#                             set, names a binary to use instead: a copy that a rebuild beside a
+#                             long study cannot change under it)
 #   app_timed_run DIR [ARGS]  runs DIR/deck.toml on one thread into DIR/run; writes DIR/log.txt,
 #                             DIR/exit_code, copies steps.csv and summary.json if there, and
 #                             writes DIR/time.txt (user, system, wall seconds) last: its presence
@@ -10,6 +12,7 @@
 #   app_pool JOBS FUNC ITEMS  FUNC ITEM for each item, JOBS at once
 
 app_build() {
+  if [ -n "${NACRE_APP:-}" ]; then APP="$NACRE_APP"; return 0; fi
   cmake --preset openmp >/dev/null && cmake --build --preset openmp --target nacre >/dev/null
   APP=build/openmp/src/nacre
 }

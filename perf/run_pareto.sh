@@ -23,11 +23,15 @@ mkdir -p "$out"
 source perf/app_runs.sh
 app_build
 
+# the base deck: the study's pinned settings (Monte Carlo + FIRE polish, adaptive increments: the
+# default deck's until 2026-12-03), so that every variant below means what it meant then
 base="$out/base.toml"
-perf/scaled_deck.sh "$bricks" "$final" > "$base"
+perf/scaled_deck.sh "$bricks" "$final" study > "$base"
 
 # name | what it changes (sed expressions on the base deck, which has the default deck's settings)
-solver_key() { echo "s/^\\[solver\\]/[solver]\\n$1/"; }
+# (a variant setting solver keys drops the base's relaxation line: the built-in default is
+# "monte-carlo", the base's, and a variant that names another relaxation must not name two)
+solver_key() { echo "/^relaxation = /d;s/^\\[solver\\]/[solver]\\n$1/"; }
 declare -A V
 # The reference: fixed increments of 0.002 (the adaptive increments of 0.004-0.01 step over the
 # peak), each converged to 1e-9 by FIRE alone, which ends every step it shares with the Monte
@@ -36,7 +40,8 @@ declare -A V
 V[reference]="$(solver_key 'relaxation = "gradient"\nresidual_tolerance = 1e-9\npolish_iterations = 500000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
 V[reference-check]="$(solver_key 'relaxation = "gradient"\nresidual_tolerance = 1e-10\npolish_iterations = 500000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.001/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.001/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.001/"
 V[mc-1e-9]="$(solver_key 'residual_tolerance = 1e-9')"
-V[default]=""
+V[monte-carlo]=""   # the base: Monte Carlo + FIRE polish, the default deck's settings until 2026-12-03
+V[default]="@deck"  # the default deck's settings as they are now (relaxation = "auto", increments 0.002)
 V[gradient-fire]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000')"
 V[gradient-fire-fixed]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.004/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.004/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.004/"
 V[gradient-fire-fine]="$(solver_key 'relaxation = "gradient"\npolish_iterations = 200000');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
@@ -59,7 +64,7 @@ V[newton-fixed]="$(solver_key 'relaxation = "newton"');s/^adaptive = .*/adaptive
 V[newton-fine]="$(solver_key 'relaxation = "newton"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
 V[auto]="$(solver_key 'relaxation = "auto"')"
 V[auto-fine]="$(solver_key 'relaxation = "auto"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
-order=(reference reference-check mc-1e-9 default gradient-fire gradient-fire-fixed gradient-fire-fine window residual-1e-4 fixed-load no-predictor T1e-6 T1e-8
+order=(reference reference-check mc-1e-9 monte-carlo default gradient-fire gradient-fire-fixed gradient-fire-fine window residual-1e-4 fixed-load no-predictor T1e-6 T1e-8
        window-loose window-tight window-T1e-6 residual-1e-8 fixed-trial-steps per-brick
        newton-reference newton newton-fixed newton-fine auto auto-fine)
 [ -n "${NACRE_PARETO_VARIANTS:-}" ] && read -r -a order <<< "${NACRE_PARETO_VARIANTS//,/ }"
@@ -69,7 +74,11 @@ run_variant() {
   [ -f "$dir/summary.json" ] && { echo "[pareto] $name: done already"; return 0; }
   [ -n "${V[$name]+x}" ] || { echo "[pareto] unknown variant $name" >&2; return 2; }
   mkdir -p "$dir"
-  sed -e "${V[$name]:-s/^//}" "$base" > "$dir/deck.toml"
+  if [ "${V[$name]}" = "@deck" ]; then
+    perf/scaled_deck.sh "$bricks" "$final" > "$dir/deck.toml"
+  else
+    sed -e "${V[$name]:-s/^//}" "$base" > "$dir/deck.toml"
+  fi
   echo "[pareto] $name: start $(date +%T)"
   app_timed_run "$dir" -q
   # a run that ends without a summary (not converged: exit 4) still counts, with its rows
