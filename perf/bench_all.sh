@@ -4,9 +4,12 @@
 # table of it all. Written for a short run on a GPU machine (perf/gpu/device_run.sh calls it
 # with the carried CUDA binary) and rehearsed on a CPU with --quick.
 #
-#   perf/bench_all.sh [--quick] [--sizes N,N,...] [--backends a,b] "NACRE COMMAND" OUTDIR
+#   perf/bench_all.sh [--quick] [--sizes N,N,...] [--backends a,b] [--readme-backends a,b] "NACRE COMMAND" OUTDIR
 #     NACRE COMMAND  how to start nacre, e.g. build/kokkos-4.6/src/nacre or "perf/gpu/bundle/run nacre"
 #     --sizes        scaled specimens in bricks (default 100000,1000000,4000000; --quick 10000,30000)
+#     --backends     the backends of every bench (default: all the build has); --readme-backends
+#                    those of the README decks alone (e.g. cuda,openmp,serial where Serial is too
+#                    slow for the scaled specimens)
 # Run from the repository root (it reads inputs/ and perf/scaled_deck.sh). Every bench has a time
 # limit (BENCH_TIMEOUT s, default 240) so one stuck size cannot eat the sitting; what finished is
 # kept. OUTDIR gets one folder per bench (bench.csv, bench.json, bench.png, the deck, the log),
@@ -15,12 +18,13 @@
 # target at 1M bricks), BIE's speed-up over BE and UE at ratio 500 in simulated time per second,
 # the uniform source's Gbit/s (AES-CTR inside the Monte Carlo run), and the agreement of every bench.
 set -uo pipefail
-quick=0; sizes=""; backends=()
+quick=0; sizes=""; backends=(); readme_backends=()
 while [ $# -gt 2 ]; do
   case "$1" in
     --quick) quick=1; shift ;;
     --sizes) sizes="$2"; shift 2 ;;
     --backends) backends=(--backends "$2"); shift 2 ;;
+    --readme-backends) readme_backends=(--backends "$2"); shift 2 ;;
     *) echo "bench_all.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -35,13 +39,14 @@ t0=$SECONDS
 failed=()
 say() { echo "[bench_all +$(( SECONDS - t0 ))s] $*" | tee -a "$out/bench_all.log"; }
 
-# bench NAME DECK ARGS...: one `nacre bench` into OUTDIR/NAME
+# bench NAME DECK ARGS...: one `nacre bench` into OUTDIR/NAME (on bench_backends)
 bench() {
   local name="$1" deck="$2"; shift 2
+  local bb=("${bench_backends[@]}")
   mkdir -p "$out/$name"
   cp "$deck" "$out/$name/deck.toml"
   say "$name: nacre bench $(basename "$deck") $*"
-  timeout "$limit" "${nacre[@]}" bench "$out/$name/deck.toml" "${backends[@]}" --repeat 2 -o "$out/$name" "$@" \
+  timeout "$limit" "${nacre[@]}" bench "$out/$name/deck.toml" "${bb[@]}" --repeat 2 -o "$out/$name" "$@" \
     > "$out/$name/bench.log" 2>&1
     local rc=$?
   [ $rc = 0 ] || { say "  $name: exit $rc ($(tail -n 1 "$out/$name/bench.log"))"; failed+=("$name"); }
@@ -76,6 +81,8 @@ command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,
   > "$out/gpu.txt" 2>&1
 
 # 1. the README decks as they are
+bench_backends=("${backends[@]}")
+[ ${#readme_backends[@]} -gt 0 ] && bench_backends=("${readme_backends[@]}")
 bench readme_default inputs/default.toml --cycles "$cyc"
 bench readme_dynamic inputs/dynamic.toml --steps "$steps"
 bench readme_dynamic_bie inputs/dynamic_bie.toml --steps "$bie_steps"
@@ -87,6 +94,7 @@ else
 fi
 bench readme_default_aes "$out/default_aes.toml" --cycles "$cyc"
 # 3. scaled: Monte Carlo sweeps; UE, BE and BIE at ratio 500 (the speed-up of Fig. 4.9)
+bench_backends=("${backends[@]}")
 IFS=, read -ra ns <<< "$sizes"
 for n in "${ns[@]}"; do
   perf/scaled_deck.sh "$n" 0.16 > "$out/mc_$n.toml"
@@ -112,6 +120,7 @@ for f in sorted(glob.glob(os.path.join(out, "*", "bench.json"))):
              "threads": e["threads"], "seconds_per_unit": e["seconds_per_unit"],
              "throughput": e.get("trials_per_second", e.get("brick_steps_per_second")),
              "fraction_of_triad": e["fraction_of_triad"], "triad_gb_per_s": e["triad_gb_per_s"],
+             "fraction_of_fma": e.get("fraction_of_fma"), "flops_per_unit": e.get("flops_per_unit"),
              "fma_gflop_per_s": e["fma_gflop_per_s"], "rng_gbit_per_s": e.get("rng_gbit_per_s"),
              "time_step": j.get("time_step"), "agreement": j["agreement"]}
         rows.append(r)
@@ -136,9 +145,10 @@ for name, by in summary["benches"].items():
         summary["bie_speedup_ratio500"][f"{n} bricks, {b}"] = s
 json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=1)
 for r in rows:
-    tri = r["fraction_of_triad"]
+    tri, fma = r["fraction_of_triad"], r["fraction_of_fma"]
     print(f'{r["bench"]:<22} {r["backend"]:<7} {r["bricks"]:>9} {r["seconds_per_unit"]:>11.4g} s/{r["unit"]:<9} '
-          f'{r["throughput"]:>10.4g}/s  triad {100 * tri if tri is not None else float("nan"):5.1f}%  {r["agreement"]}'
+          f'{r["throughput"]:>10.4g}/s  triad {100 * tri if tri is not None else float("nan"):5.1f}%  '
+          f'FMA {100 * fma if fma is not None else float("nan"):5.1f}%  {r["agreement"]}'
           + (f'  rng {r["rng_gbit_per_s"]:.3g} Gbit/s' if r["rng_gbit_per_s"] else ""))
 for k, v in summary["bie_speedup_ratio500"].items():
     print("BIE speed-up at ratio 500,", k, {m: round(x, 2) for m, x in v.items()})

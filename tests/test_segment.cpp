@@ -280,3 +280,53 @@ TEST_CASE("min_separation is the exact minimum of |gap| over the whole segment",
     CHECK(m >= sampled - 1e-5 * std::hypot(r.g1x - r.g0x, r.g1y - r.g0y));  // the grid's step
   }
 }
+
+// ---- flops::Counted: the scalar that counts a unit's flops for nacre bench's FMA fraction
+// (core/flop_count.hpp). The counts must be exact where they can be worked out by hand, and the
+// counted code must compute the same values as the double code it counts.
+
+TEST_CASE("Counted counts each operation once and computes the double's value", "[segment][flops]") {
+  using nacre::flops::Counted;
+  const Counted a = 1.5, b = -0.25, c = 3.0;
+  Counted r;
+  const auto n = nacre::flops::count([&] { r = (a * b + c) / (a - 2.0) + nacre::sc::sqrt(c) * nacre::sc::asinh(b); });
+  CHECK(n.add == 3);  // a * b + c, a - 2, the outer +
+  CHECK(n.mul == 2);
+  CHECK(n.div == 1);
+  CHECK(n.sqrt == 1);
+  CHECK(n.transcendental == 1);
+  CHECK(n.flops() == 3 + 2 + 1 + 1 + nacre::flops::kTranscendentalFlops);
+  CHECK(r.v == (1.5 * -0.25 + 3.0) / (1.5 - 2.0) + std::sqrt(3.0) * std::asinh(-0.25));
+  // comparisons, fabs, fmin / fmax and copysign are free
+  const auto z = nacre::flops::count([&] {
+    (void)(a < b), (void)nacre::sc::fabs(b), (void)nacre::sc::fmax(a, b), (void)nacre::sc::copysign(a, b);
+  });
+  CHECK(z.flops() == 0);
+}
+
+TEST_CASE("the energy of a segment counted on Counted: exact counts, the double's bits", "[segment][flops]") {
+  using nacre::flops::Counted;
+  auto counted = [](const Gap& g, double L, Counted& e) {
+    const BasicGap<Counted> c{g.g0x, g.g0y, g.g1x, g.g1y, g.nx, g.ny};
+    return nacre::flops::count([&] { e = integrate(EnergyTag{}, law, c, L); });
+  };
+  Counted e;
+  // elastic along its whole length, no penetration: |g0|^2, |g1|^2 (3 each), the closed form
+  // (4 * and 3 +), both ends' openings (3 each), the penalty's sum and the length: 21 flops
+  const Gap elastic{0.002, 0.004, -0.001, 0.006, 0.0, 1.0};
+  const auto n = counted(elastic, 0.7, e);
+  CHECK(n.flops() == 21);
+  CHECK(n.sqrt == 0);
+  CHECK(n.transcendental == 0);
+  CHECK(e.v == integrate(EnergyTag{}, law, elastic, 0.7));
+  // softening at one end, penetrating at the other: pieces with square roots and the asinh mean
+  const Gap softening{0.001, -0.002, 0.02, 0.025, 0.0, 1.0};
+  const auto s = counted(softening, 0.7, e);
+  CHECK(e.v == integrate(EnergyTag{}, law, softening, 0.7));
+  CHECK(s.flops() > 3 * n.flops());
+  CHECK(s.sqrt >= 2);
+  CHECK(s.transcendental >= 1);
+  const auto p = counted(Gap{0.002, -0.004, -0.001, 0.006, 0.0, 1.0}, 0.7, e);  // one end penetrates
+  CHECK(p.flops() > n.flops());
+  CHECK(p.div == 1);  // the penalty's one quotient
+}

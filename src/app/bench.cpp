@@ -17,6 +17,7 @@
 
 #include <nacre/app/run_dynamics.hpp>
 #include <nacre/core/backend.hpp>
+#include <nacre/core/flop_count.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
@@ -179,6 +180,7 @@ struct Sample {
   std::map<std::string, double> phase;  ///< region -> seconds
   std::vector<double> state;            ///< what the agreement check compares
   double bytes_per_unit = 0;            ///< Simulation::step_bytes, Solver::cycle_bytes x cycles per unit
+  double flops_per_unit = NAN;          ///< Simulation::step_flops, Solver::cycle_flops x cycles per unit (NaN: not counted)
   double dt = 0;                        ///< dynamics: the time step (s)
 };
 
@@ -195,6 +197,7 @@ Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Sp
   r.work = static_cast<double>(s.size()) * static_cast<double>(steps);
   r.dt = p.dt;
   r.bytes_per_unit = static_cast<double>(sim.step_bytes());
+  r.flops_per_unit = sim.step_flops();
   {
     RegionTimer timer;
     const auto t0 = clock_type::now();
@@ -238,6 +241,9 @@ Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen
   if (solver.times().rng > 0) r.random_bits = 256.0 * trials;  // a table filled by the source (not Philox in place)
   r.bytes_per_unit = static_cast<double>(solver.cycle_bytes()) * static_cast<double>(solver.global_cycle()) /
                      static_cast<double>(std::max(1L, r.units));
+  // (counted at the state reached, after the timed stretch: a host copy of the model)
+  if (const auto fc = solver.cycle_flops())
+    r.flops_per_unit = *fc * static_cast<double>(solver.global_cycle()) / static_cast<double>(std::max(1L, r.units));
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
   r.state = x, r.state.insert(r.state.end(), y.begin(), y.end()), r.state.insert(r.state.end(), t.begin(), t.end());
@@ -347,6 +353,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
   j["solver"] = dynamic ? "dynamics" : "monte-carlo";
   j["bricks"] = bricks;
   j["unit"] = unit;
+  j["flop_convention"] = "+ - * / sqrt: 1 flop, an FMA 2, exp / asinh / sin / cos: " +
+                         std::to_string(static_cast<int>(flops::kTranscendentalFlops)) + " (core/flop_count.hpp)";
   j["units_per_repeat"] = samples.front().units;
   j["repeats"] = o.repeat;
   j["time_step"] = dynamic ? nlohmann::ordered_json(samples.front().dt) : nlohmann::ordered_json(nullptr);
@@ -366,9 +374,11 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     const double per = b->seconds / b->units, thr = b->work / b->seconds;
     const double speedup = best(ref)->seconds / b->seconds;
     // fraction of the bandwidth bound: the bytes a unit must move at least (Simulation::step_bytes,
-    // Solver::cycle_bytes) at the backend's triad rate; of the FMA bound: not estimated (nacre
-    // does not count its flops)
+    // Solver::cycle_bytes) at the backend's triad rate; of the FMA bound: the flops a unit does
+    // (Simulation::step_flops, Solver::cycle_flops; core/flop_count.hpp's convention) at the
+    // backend's FMA-loop rate
     const double of_triad = bounds[k].triad_gbs > 0 && b->bytes_per_unit > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
+    const double of_fma = bounds[k].fma_gflops > 0 && b->flops_per_unit > 0 ? b->flops_per_unit / per / (bounds[k].fma_gflops * 1e9) : NAN;
     // the uniform source's rate where it fills a table (aes-ctr, mt-aes; Philox is drawn inside the sweep)
     const auto rng_phase = b->phase.find("nacre::mc::rng");
     const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
@@ -390,12 +400,15 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     e["fma_gflop_per_s"] = bounds[k].fma_gflops;
     e["fraction_of_triad"] = std::isnan(of_triad) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(of_triad);
     e["bytes_per_unit"] = b->bytes_per_unit;
+    e["fraction_of_fma"] = std::isnan(of_fma) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(of_fma);
+    e["flops_per_unit"] = std::isnan(b->flops_per_unit) ? nlohmann::ordered_json(nullptr)
+                                                        : nlohmann::ordered_json(b->flops_per_unit);
     e["max_difference_to_" + backends[0].name()] = diff;
     e["bit_identical_to_" + backends[0].name()] = same;
     e["repeats_bit_identical"] = repeats_same;
     for (const auto& [name, t] : b->phase) e["phases"][name] = t / b->units;
-    std::printf("%-8s %8d %14.6g %16.4g %9.3f %9.1f%% %10s  %s (max |diff| %.3g)%s\n", backends[k].name().c_str(),
-                backends[k].concurrency(), per, thr, speedup, 100 * of_triad, "-",
+    std::printf("%-8s %8d %14.6g %16.4g %9.3f %9.1f%% %9.1f%%  %s (max |diff| %.3g)%s\n", backends[k].name().c_str(),
+                backends[k].concurrency(), per, thr, speedup, 100 * of_triad, 100 * of_fma,
                 k == 0 ? "reference" : (same ? "bit-identical" : "DIFFERS"), diff,
                 repeats_same ? "" : "; repeats differ");
     if (!std::isnan(rng_gbits))

@@ -22,6 +22,7 @@
 #include <nacre/dyn/monitor.hpp>
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/core/backend.hpp>
+#include <nacre/core/flop_count.hpp>
 
 #include <cmath>
 #include <sstream>
@@ -700,6 +701,26 @@ std::size_t Simulation::step_bytes() const {
   std::size_t b = model_bytes(I.m) + 2 * st;
   if (I.is_bie()) b += I.bie.Jinv.span() * sizeof(double);  // the shared J^-1 (a few KB)
   return b;
+}
+double Simulation::step_flops() const {
+  const auto& I = *impl_;
+  if (I.is_bie()) return NAN;
+  const auto& m = I.m;
+  const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
+  const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
+  double per_elem = 4.0 * nd;                                       // initial: u += h v + h^2/2 a
+  per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);       // f, w = v + h/2 a, the work
+  per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;              // r = f - K u - alpha M w - beta K w
+  per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
+  per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;              // beta v K v; the books
+  // an interface: the jump at both ends (4 components of 2 shape-weighted differences), the end
+  // forces, their split onto the 8 edge dofs ((1 - x) F0 + (1 - x') F1) and the gather (8 adds)
+  const cohesive::Law& law = m.laws.law[0];
+  const double e = 0.5 * law.x1;  // an elastic gap (below x1), opening
+  const cohesive::BasicGap<flops::Counted> g{0.6 * e, 0.8 * e, 0.5 * e, 0.7 * e, 0.0, 1.0};
+  const double ends = flops::count([&] { (void)cohesive::integrate(cohesive::TractionTag{}, law, g, 1.0); }).flops();
+  const double per_iface = 4.0 * 9.0 + ends + 8.0 * 5.0 + 8.0;
+  return per_elem * static_cast<double>(m.n_elem) + per_iface * static_cast<double>(m.n_iface);
 }
 double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->bie.max_condition : 0.0; }
 double Simulation::bie_residual() const {

@@ -2,6 +2,7 @@
 // solver_on.hpp) and the face that picks the space from the run's Backend and forwards to them.
 #include "solver_on.hpp"
 
+#include <nacre/mc/trial_flops.hpp>
 #include <nacre/rng/registry.hpp>
 
 #include <algorithm>
@@ -437,6 +438,13 @@ std::size_t SolverOn<Exec>::cycle_bytes() const {
   if (brick_steps_.active()) b += nf * 2 * (2 * sizeof(double) + sizeof(int));
   if (m_.hist.data()) b += m_.hist.span() * sizeof(double);
   return b;
+}
+
+template <class Exec>
+std::optional<double> SolverOn<Exec>::cycle_flops() const {
+  const auto per_trial = trial_flops(m_, step_, rot_step_, temperature_);
+  if (!per_trial) return std::nullopt;
+  return per_trial->flops() * static_cast<double>(m_.n_free);
 }
 
 template <class Exec>
@@ -883,6 +891,9 @@ long Solver::cycle() {
 }
 std::size_t Solver::cycle_bytes() const {
   return on([](const auto& s) { return s.cycle_bytes(); });
+}
+std::optional<double> Solver::cycle_flops() const {
+  return on([](const auto& s) { return s.cycle_flops(); });
 }
 long Solver::relax(bool& converged) {
   return on([&](auto& s) { return s.relax(converged); });

@@ -8,6 +8,8 @@
 // loops carry no per-launch dispatch. The members mirror Solver's; solver.hpp documents them.
 #include <nacre/mc/solver.hpp>
 
+#include <optional>
+
 namespace nacre::mc {
 
 /// \brief How a load step is relaxed (deck key relaxation).
@@ -41,6 +43,7 @@ public:
   [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
   long cycle();
   [[nodiscard]] std::size_t cycle_bytes() const;
+  [[nodiscard]] std::optional<double> cycle_flops() const;
   long relax(bool& converged);
   void run(const std::function<void(const StepRecord&)>& on_step);
   [[nodiscard]] Checkpoint checkpoint() const;

@@ -152,11 +152,15 @@ KOKKOS_INLINE_FUNCTION Pieces<T> f_pieces(const Law& m, const Line<T>& l) {
 }
 
 /// \brief asinh(x) / x, 1 at 0.
-KOKKOS_INLINE_FUNCTION double asinhc(double x) { return x != 0.0 ? Kokkos::asinh(x) / x : 1.0; }
+template <class T>
+KOKKOS_INLINE_FUNCTION T asinhc(const T& x) {
+  return x != 0.0 ? sc::asinh(x) / x : T(1.0);
+}
 
 /// \brief Twice the antiderivative of sqrt(p^2 + q^2) (q2 = q^2, r = sqrt(p^2 + q^2)): odd in p.
-KOKKOS_INLINE_FUNCTION double norm_antiderivative2(double p, double r, double q, double q2) {
-  return p * r + (q2 > 0.0 ? q2 * Kokkos::asinh(p / q) : 0.0);
+template <class T>
+KOKKOS_INLINE_FUNCTION T norm_antiderivative2(const T& p, const T& r, const T& q, const T& q2) {
+  return p * r + (q2 > 0.0 ? q2 * sc::asinh(p / q) : T(0.0));
 }
 
 /// \brief Mean of sqrt(p^2 + q^2) for p linear from pa to pb = pa + dl (dl >= 0), ra and rb its
@@ -166,12 +170,13 @@ KOKKOS_INLINE_FUNCTION double norm_antiderivative2(double p, double r, double q,
 ///   asinh(pb / q) - asinh(pa / q) = asinh(dl (pa + pb) / (pb ra + pa rb))
 /// (pa, pb of one sign), every sum is of same-sign terms; of opposite signs the antiderivative
 /// is odd, so its difference is a sum too.
-KOKKOS_INLINE_FUNCTION double mean_norm(double pa, double pb, double q, double ra, double rb, double dl) {
+template <class T>
+KOKKOS_INLINE_FUNCTION T mean_norm(const T& pa, const T& pb, const T& q, const T& ra, const T& rb, const T& dl) {
   if (!(dl > 0.0)) return 0.5 * (ra + rb);
-  const double q2 = q * q;
+  const T q2 = q * q;
   if (pa * pb >= 0.0) {
-    if (!(q2 > 0.0)) return 0.5 * Kokkos::fabs(pa + pb);
-    const double z = (pa + pb) / (pb * ra + pa * rb);
+    if (!(q2 > 0.0)) return 0.5 * sc::fabs(pa + pb);
+    const T z = (pa + pb) / (pb * ra + pa * rb);
     return 0.5 * ((pa + pb) * (pa * pa + pb * pb + q2) / (pb * rb + pa * ra) + q2 * z * asinhc(dl * z));
   }
   return 0.5 * (norm_antiderivative2(pb, rb, q, q2) + norm_antiderivative2(-pa, ra, q, q2)) / dl;
@@ -179,31 +184,32 @@ KOKKOS_INLINE_FUNCTION double mean_norm(double pa, double pb, double q, double r
 
 /// \brief Integral over [0, 1] of f(|g(s)|) along a segment that is not elastic everywhere:
 /// the closed form of each piece.
-KOKKOS_INLINE_FUNCTION double f_integral(const Law& m, const Gap& g) {
-  const Line<double> l = make_line(g);
-  const Pieces<double> p = f_pieces(m, l);
+template <class T>
+KOKKOS_INLINE_FUNCTION T f_integral(const Law& m, const BasicGap<T>& g) {
+  const Line<T> l = make_line(g);
+  const Pieces<T> p = f_pieces(m, l);
   const double x12 = m.x1 + m.x2;
-  const double len = Kokkos::sqrt(l.a), inv = len > 0.0 ? 1.0 / len : 0.0;
-  const double q = Kokkos::fabs(l.cross) * inv;
-  double e = 0.0;
+  const T len = sc::sqrt(l.a), inv = len > 0.0 ? 1.0 / len : T(0.0);
+  const T q = sc::fabs(l.cross) * inv;
+  T e = 0.0;
   for (int j = 0; j < 7; ++j) {
-    const double sa = p.s[j], sb = p.s[j + 1], ds = sb - sa;
+    const T sa = p.s[j], sb = p.s[j + 1], ds = sb - sa;
     if (!(ds > 0.0)) continue;
     const int br = branch_of(j);
     if (br == 3) {
       e += ds * m.k * m.x1 * m.x2;
       continue;
     }
-    const double gax = g.g0x + sa * l.dx, gay = g.g0y + sa * l.dy;
-    const double gbx = g.g0x + sb * l.dx, gby = g.g0y + sb * l.dy;
-    const double da = gax * gax + gay * gay, db = gbx * gbx + gby * gby;
-    const double mean_sq = (da + gax * gbx + gay * gby + db) * (1.0 / 3.0);  // exact for a quadratic
+    const T gax = g.g0x + sa * l.dx, gay = g.g0y + sa * l.dy;
+    const T gbx = g.g0x + sb * l.dx, gby = g.g0y + sb * l.dy;
+    const T da = gax * gax + gay * gay, db = gbx * gbx + gby * gby;
+    const T mean_sq = (da + gax * gbx + gay * gby + db) * (1.0 / 3.0);  // exact for a quadratic
     if (br == 0) {
       e += ds * 0.5 * m.k * mean_sq;
       continue;
     }
-    const double pa = (gax * l.dx + gay * l.dy) * inv, pb = (gbx * l.dx + gby * l.dy) * inv;
-    const double mean = mean_norm(pa, pb, q, Kokkos::sqrt(da), Kokkos::sqrt(db), ds * len);
+    const T pa = (gax * l.dx + gay * l.dy) * inv, pb = (gbx * l.dx + gby * l.dy) * inv;
+    const T mean = mean_norm(pa, pb, q, sc::sqrt(da), sc::sqrt(db), ds * len);
     if (br == 1) e += ds * m.k * m.x1 * (mean - 0.5 * m.x1);
     else e += ds * m.k * (m.x1 * m.x2 - 0.5 * (x12 * x12 - 2.0 * x12 * mean + mean_sq));  // k x1 x2 - k (x12 - |g|)^2 / 2
   }
@@ -237,18 +243,20 @@ KOKKOS_INLINE_FUNCTION bool penetration(const BasicGap<T>& g, T& sa, T& sb, T& d
 /// 1 / x1: three divisions and a root per interface).
 /// Precondition: the normal is near unit length (every caller's is: a unit normal turned by a
 /// small angle, or unit): 7 n2^3 x1^4 must not underflow, or a penetrating end gives 0 / 0.
-KOKKOS_INLINE_FUNCTION double penalty_integral(const Law& m, const Gap& g) {
-  const double a0 = g.g0x * g.nx + g.g0y * g.ny, a1 = g.g1x * g.nx + g.g1y * g.ny;
-  if (a0 >= 0.0 && a1 >= 0.0) return 0.0;
-  const double n2 = g.nx * g.nx + g.ny * g.ny, x1sq = m.x1 * m.x1;
-  const double den = 7.0 * (n2 * n2 * n2) * (x1sq * x1sq);
+template <class T>
+KOKKOS_INLINE_FUNCTION T penalty_integral(const Law& m, const BasicGap<T>& g) {
+  const T a0 = g.g0x * g.nx + g.g0y * g.ny, a1 = g.g1x * g.nx + g.g1y * g.ny;
+  if (a0 >= 0.0 && a1 >= 0.0) return T(0.0);
+  const T n2 = g.nx * g.nx + g.ny * g.ny;
+  const double x1sq = m.x1 * m.x1;
+  const T den = 7.0 * (n2 * n2 * n2) * (x1sq * x1sq);
   if (a0 < 0.0 && a1 < 0.0) {
-    const double a2 = a0 * a0, a3 = a2 * a0, b2 = a1 * a1, b3 = b2 * a1;
-    const double num = a3 * a3 + a3 * a2 * a1 + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + a0 * b2 * b3 + b3 * b3;
+    const T a2 = a0 * a0, a3 = a2 * a0, b2 = a1 * a1, b3 = b2 * a1;
+    const T num = a3 * a3 + a3 * a2 * a1 + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + a0 * b2 * b3 + b3 * b3;
     return 0.0625 * m.k * num / den;
   }
-  const double a = a0 < 0.0 ? a0 : a1, other = a0 < 0.0 ? a1 : a0;  // a < 0 <= other
-  const double a2 = a * a, a6 = a2 * a2 * a2;
+  const T a = a0 < 0.0 ? a0 : a1, other = a0 < 0.0 ? a1 : a0;  // a < 0 <= other
+  const T a2 = a * a, a6 = a2 * a2 * a2;
   return 0.0625 * m.k * (a6 * a) / ((a - other) * den);
 }
 
@@ -360,11 +368,13 @@ KOKKOS_INLINE_FUNCTION void f_forces(const Law& m, const BasicGap<T>& g, BasicEn
 }  // namespace detail
 
 /// \brief Energy of a segment of the given length: the exact integral of the density along it.
-KOKKOS_INLINE_FUNCTION double integrate(EnergyTag, const Law& m, const Gap& g, double length) {
-  const double d0 = g.g0x * g.g0x + g.g0y * g.g0y, d1 = g.g1x * g.g1x + g.g1y * g.g1y;
+/// (T: double, or flops::Counted where a trial's flops are counted: mc/trial_flops.hpp)
+template <class T>
+KOKKOS_INLINE_FUNCTION T integrate(EnergyTag, const Law& m, const BasicGap<T>& g, double length) {
+  const T d0 = g.g0x * g.g0x + g.g0y * g.g0y, d1 = g.g1x * g.g1x + g.g1y * g.g1y;
   const double x1sq = m.x1 * m.x1;
-  const double ef = (d0 <= x1sq && d1 <= x1sq) ? m.k * (d0 + g.g0x * g.g1x + g.g0y * g.g1y + d1) * (1.0 / 6.0)
-                                               : detail::f_integral(m, g);
+  const T ef = (d0 <= x1sq && d1 <= x1sq) ? m.k * (d0 + g.g0x * g.g1x + g.g0y * g.g1y + d1) * (1.0 / 6.0)
+                                          : detail::f_integral(m, g);
   return length * (ef + detail::penalty_integral(m, g));
 }
 

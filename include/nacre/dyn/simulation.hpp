@@ -190,6 +190,13 @@ public:
   /// a fused kernel could keep in registers) and the roll-back copy (touched once per check
   /// interval, not per step).
   [[nodiscard]] std::size_t step_bytes() const;
+  /// \brief Flops of one step (the FMA bound's numerator), velocity Verlet (UE, BE): per element
+  /// the dense K u (and K w, K v where beta_d > 0) and (M + h/2 C)^-1 r products, 2 nd^2 each (nd
+  /// dofs), and the update's vector work; per interface the jump at the ends, the end forces
+  /// (cohesive::integrate run on flops::Counted on the elastic branch, the state of almost every
+  /// interface; a softening one costs more), their shape-function split and the gather. Counting
+  /// convention: core/flop_count.hpp. NaN for BIE (its iterations and J^-1 apply are not counted).
+  [[nodiscard]] double step_flops() const;
   [[nodiscard]] int element_types() const;
   /// \brief Elements whose mass Params::sliver_step_ratio scaled, and the mass they gained
   /// relative to the specimen's.

@@ -218,19 +218,36 @@ void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m
 /// brick in frame fo (Model::slot: oriented from the brick's side; same bits as the interface's
 /// own orientation, see there). `kappa`: the interface's damage history at q's points, or null
 /// (the reversible law's exact integral; q is then not read).
-template <class SlotView>
-KOKKOS_INLINE_FUNCTION double slot_energy(const SlotView& r, int j, const cohesive::Law& law,
-                                          const kinematics::Frame& f, const kinematics::Frame& fo,
-                                          const cohesive::Quadrature& q, const double* kappa) {
+/// (T: double, or flops::Counted where a trial's flops are counted, mc/trial_flops.hpp: the
+/// reversible law only, kappa null)
+template <class SlotView, class T>
+KOKKOS_INLINE_FUNCTION T slot_energy(const SlotView& r, int j, const cohesive::Law& law,
+                                     const kinematics::BasicFrame<T>& f, const kinematics::BasicFrame<T>& fo,
+                                     const cohesive::Quadrature& q, const double* kappa) {
   using C = SlotCol;
-  double a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
+  T a0x, a0y, a1x, a1y, b0x, b0y, b1x, b1y;
   kinematics::point_displacement(f, r(j, col(C::r0x)), r(j, col(C::r0y)), a0x, a0y);
   kinematics::point_displacement(f, r(j, col(C::r1x)), r(j, col(C::r1y)), a1x, a1y);
   kinematics::point_displacement(fo, r(j, col(C::o0x)), r(j, col(C::o0y)), b0x, b0y);
   kinematics::point_displacement(fo, r(j, col(C::o1x)), r(j, col(C::o1y)), b1x, b1y);
-  const double tm = 0.5 * (f.t + fo.t), nx = r(j, col(C::nx)), ny = r(j, col(C::ny));
-  const cohesive::Gap g{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, nx - tm * ny, ny + tm * nx};
-  return cohesive::integrate(cohesive::EnergyTag{}, law, q, g, r(j, col(C::length)), kappa);
+  const T tm = 0.5 * (f.t + fo.t);
+  const double nx = r(j, col(C::nx)), ny = r(j, col(C::ny));
+  const cohesive::BasicGap<T> g{b0x - a0x, b0y - a0y, b1x - a1x, b1y - a1y, nx - tm * ny, ny + tm * nx};
+  if constexpr (std::is_same_v<T, double>) {
+    return cohesive::integrate(cohesive::EnergyTag{}, law, q, g, r(j, col(C::length)), kappa);
+  } else {
+    return cohesive::integrate(cohesive::EnergyTag{}, law, g, r(j, col(C::length)));
+  }
+}
+
+/// \brief The trial pose of a brick at frame f_old from its uniforms u[0..2] and the step sizes:
+/// each coordinate moved by a uniform in [-step, step] (one definition for the sweep and the flop
+/// count of a trial).
+template <class T>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<T> trial_frame(const kinematics::Frame& f_old, const double u[4],
+                                                             double s, double sr) {
+  return kinematics::make_frame<T>(T(f_old.x) + s * (2.0 * T(u[0]) - 1.0), T(f_old.y) + s * (2.0 * T(u[1]) - 1.0),
+                                   T(f_old.t) + sr * (2.0 * T(u[2]) - 1.0));
 }
 
 namespace detail {
@@ -334,9 +351,7 @@ long sweep_colour(ScalarTrials, std::bool_constant<PerBrick>, const ExecutionSpa
         double u[4];
         uniforms(b, u);
         const double s = PerBrick ? bstep(b, 0) : step, sr = PerBrick ? bstep(b, 1) : rot_step;
-        const kinematics::Pose trial{f_old.x + s * (2.0 * u[0] - 1.0), f_old.y + s * (2.0 * u[1] - 1.0),
-                                     f_old.t + sr * (2.0 * u[2] - 1.0)};
-        const kinematics::Frame f_new = kinematics::make_frame(trial);
+        const kinematics::Frame f_new = trial_frame<double>(f_old, u, s, sr);
         const int j0 = off[b], j1 = off[b + 1];
         double e_old = 0, e_new = 0;
         double keep[kTrialKeep];

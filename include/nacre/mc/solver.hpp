@@ -12,6 +12,7 @@
 #include <nacre/rng/uniform_source.hpp>
 
 #include <functional>
+#include <optional>
 #include <iosfwd>
 #include <memory>
 #include <variant>
@@ -146,6 +147,10 @@ public:
   /// written ones twice: poses, slot records, energy cache, uniforms, per-brick steps, history),
   /// the numerator of `nacre bench`'s fraction of the triad bound.
   [[nodiscard]] std::size_t cycle_bytes() const;
+  /// \brief Flops of one cycle's trials at the current state (mc/trial_flops.hpp: the trials'
+  /// own code run on a counting scalar), the numerator of `nacre bench`'s fraction of the FMA
+  /// bound; nullopt with a damage history (the irreversible law is not counted).
+  [[nodiscard]] std::optional<double> cycle_flops() const;
   /// \brief Relax at the current load until converged or max_cycles; returns cycles done.
   long relax(bool& converged);
   /// \brief Apply the (rest of the) loading programme of the deck; calls on_step after each
