@@ -40,6 +40,7 @@
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string_view>
 #include <string>
@@ -241,8 +242,9 @@ Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen
   if (solver.times().rng > 0) r.random_bits = 256.0 * trials;  // a table filled by the source (not Philox in place)
   r.bytes_per_unit = static_cast<double>(solver.cycle_bytes()) * static_cast<double>(solver.global_cycle()) /
                      static_cast<double>(std::max(1L, r.units));
-  // (counted at the state reached, after the timed stretch: a host copy of the model)
-  if (const auto fc = solver.cycle_flops())
+  // flops of the sweeps alone (counted at the state reached, after the timed stretch: a host
+  // copy of the model); load steps also run Newton / FIRE, whose flops are not counted: none given
+  if (const auto fc = load_steps > 0 ? std::nullopt : solver.cycle_flops())
     r.flops_per_unit = *fc * static_cast<double>(solver.global_cycle()) / static_cast<double>(std::max(1L, r.units));
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
