@@ -181,7 +181,7 @@ struct Sample {
   std::map<std::string, double> phase;  ///< region -> seconds
   std::vector<double> state;            ///< what the agreement check compares
   double bytes_per_unit = 0;            ///< Simulation::step_bytes, Solver::cycle_bytes x cycles per unit
-  double flops_per_unit = NAN;          ///< Simulation::step_flops, Solver::cycle_flops x cycles per unit (NaN: not counted)
+  double flops_per_unit = NAN;          ///< Simulation::step_flops, Solver::cycle_flops x cycles per unit
   double dt = 0;                        ///< dynamics: the time step (s)
 };
 
