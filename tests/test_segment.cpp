@@ -298,9 +298,8 @@ TEST_CASE("Counted counts each operation once and computes the double's value", 
   CHECK(n.flops() == 3 + 2 + 1 + 1 + nacre::flops::kTranscendentalFlops);
   CHECK(r.v == (1.5 * -0.25 + 3.0) / (1.5 - 2.0) + std::sqrt(3.0) * std::asinh(-0.25));
   // comparisons, fabs, fmin / fmax and copysign are free
-  const auto z = nacre::flops::count([&] {
-    (void)(a < b), (void)nacre::sc::fabs(b), (void)nacre::sc::fmax(a, b), (void)nacre::sc::copysign(a, b);
-  });
+  const auto z = nacre::flops::count(
+      [&] { (void)(a < b), (void)nacre::sc::fabs(b), (void)nacre::sc::fmax(a, b), (void)nacre::sc::copysign(a, b); });
   CHECK(z.flops() == 0);
 }
 

@@ -380,7 +380,9 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     // (Simulation::step_flops, Solver::cycle_flops; core/flop_count.hpp's convention) at the
     // backend's FMA-loop rate
     const double of_triad = bounds[k].triad_gbs > 0 && b->bytes_per_unit > 0 ? b->bytes_per_unit / per / (bounds[k].triad_gbs * 1e9) : NAN;
-    const double of_fma = bounds[k].fma_gflops > 0 && b->flops_per_unit > 0 ? b->flops_per_unit / per / (bounds[k].fma_gflops * 1e9) : NAN;
+    const double of_fma = bounds[k].fma_gflops > 0 && b->flops_per_unit > 0
+                              ? b->flops_per_unit / per / (bounds[k].fma_gflops * 1e9)
+                              : NAN;
     // the uniform source's rate where it fills a table (aes-ctr, mt-aes; Philox is drawn inside the sweep)
     const auto rng_phase = b->phase.find("nacre::mc::rng");
     const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
@@ -403,8 +405,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     e["fraction_of_triad"] = std::isnan(of_triad) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(of_triad);
     e["bytes_per_unit"] = b->bytes_per_unit;
     e["fraction_of_fma"] = std::isnan(of_fma) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(of_fma);
-    e["flops_per_unit"] = std::isnan(b->flops_per_unit) ? nlohmann::ordered_json(nullptr)
-                                                        : nlohmann::ordered_json(b->flops_per_unit);
+    e["flops_per_unit"] =
+        std::isnan(b->flops_per_unit) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(b->flops_per_unit);
     e["max_difference_to_" + backends[0].name()] = diff;
     e["bit_identical_to_" + backends[0].name()] = same;
     e["repeats_bit_identical"] = repeats_same;

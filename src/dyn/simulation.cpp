@@ -708,11 +708,11 @@ double Simulation::step_flops() const {
   const auto& m = I.m;
   const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
   const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
-  double per_elem = 4.0 * nd;                                       // initial: u += h v + h^2/2 a
-  per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);       // f, w = v + h/2 a, the work
-  per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;              // r = f - K u - alpha M w - beta K w
+  double per_elem = 4.0 * nd;                                         // initial: u += h v + h^2/2 a
+  per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
+  per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;                // r = f - K u - alpha M w - beta K w
   per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
-  per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;              // beta v K v; the books
+  per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;                // beta v K v; the books
   // an interface: the jump at both ends (4 components of 2 shape-weighted differences), the end
   // forces, their split onto the 8 edge dofs ((1 - x) F0 + (1 - x') F1) and the gather (8 adds)
   const cohesive::Law& law = m.laws.law[0];
