@@ -617,7 +617,7 @@ void build_gather(Build& B) {
   for (int e = 0; e < ne; ++e) goff[e + 1] += goff[e];
   {
     m.goff = alloc<Kokkos::View<int*>>("goff", ne + 1);
-    m.gent = alloc<Kokkos::View<int*>>("gent", std::max(goff[ne], 1));
+    m.gent = alloc<decltype(m.gent)>("gent", std::max(goff[ne], 1));
     auto O = Kokkos::create_mirror_view(m.goff);
     auto G = Kokkos::create_mirror_view(m.gent);
     std::vector<int> fill(goff.begin(), goff.end() - 1);

@@ -212,7 +212,8 @@ template <class MemorySpace>
 struct Integrator {
   using CDof = Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace>;
   using CMat = Kokkos::View<const double***, ElemLayout<MemorySpace>, MemorySpace>;
-  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, gent, tile_start, tile_elem, driven, driven_index;
+  Kokkos::View<const int*, MemorySpace> type, type_nodes, goff, tile_start, tile_elem, driven, driven_index;
+  Kokkos::View<const GatherEntry*, MemorySpace> gent;
   Kokkos::View<const std::int8_t*, MemorySpace> drive;
   Kokkos::View<const double*, MemorySpace> cx, cy;
   CMat K, Ainv;
@@ -231,8 +232,8 @@ struct Integrator {
   Integrator(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const DofView<MemorySpace>& v_,
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const DrivenAccView<MemorySpace>& dacc_,
              const IforceView<MemorySpace>& f_)
-      : type(m.type), type_nodes(m.type_nodes), goff(m.goff), gent(m.gent), tile_start(m.tile_start),
-        tile_elem(m.tile_elem), driven(m.driven), driven_index(m.driven_index), drive(m.drive), cx(m.cx), cy(m.cy),
+      : type(m.type), type_nodes(m.type_nodes), goff(m.goff), tile_start(m.tile_start), tile_elem(m.tile_elem),
+        driven(m.driven), driven_index(m.driven_index), gent(m.gent), drive(m.drive), cx(m.cx), cy(m.cy),
         K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_),
         u(u_), v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven),
         has_fp(m.fp.extent(0) > 0), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
@@ -268,7 +269,8 @@ struct Integrator {
   KOKKOS_INLINE_FUNCTION void gather(int e, double* fi) const {
     for (int j = 0; j < nd; ++j) fi[j] = 0;
     for (int k = goff(e); k < goff(e + 1); ++k) {
-      const int ent = gent(k), i = ent >> 7, side = (ent >> 6) & 1, n0 = (ent >> 3) & 7, n1 = ent & 7;
+      const GatherFields g = gather_fields(gent(k));
+      const int i = g.iface, side = g.side, n0 = g.n0, n1 = g.n1;
       fi[2 * n0] += iforce(i, 4 * side), fi[2 * n0 + 1] += iforce(i, 4 * side + 1);
       fi[2 * n1] += iforce(i, 4 * side + 2), fi[2 * n1 + 1] += iforce(i, 4 * side + 3);
     }

@@ -40,10 +40,22 @@ inline constexpr int kTile = 8;
 /// line of the state once; UE's 4 triangles of a brick are 4 types).
 inline constexpr int kTileWindow = 8 * kTile;
 
-/// Gather-list entry: interface i (< kMaxGatherIface), side (0 a, 1 b), the side's local nodes n0, n1 (< 8).
-inline constexpr int kMaxGatherIface = 1 << 24;
-KOKKOS_INLINE_FUNCTION constexpr int gather_entry(int i, int side, int n0, int n1) {
-  return (i << 7) | (side << 6) | (n0 << 3) | n1;
+/// Gather-list entry: interface i (< kMaxGatherIface), side (0 a, 1 b), the side's local nodes
+/// n0, n1 (< 8) in one unsigned 32-bit word: 25 bits of interface, 33.5 M interfaces (UE has 7
+/// per brick: 4.8 M bricks; a signed int's 24 bits stopped UE at 2.4 M, seen on an H200).
+using GatherEntry = std::uint32_t;
+inline constexpr int kMaxGatherIface = 1 << 25;
+KOKKOS_INLINE_FUNCTION constexpr GatherEntry gather_entry(int i, int side, int n0, int n1) {
+  return (static_cast<GatherEntry>(i) << 7) | (static_cast<GatherEntry>(side) << 6) |
+         (static_cast<GatherEntry>(n0) << 3) | static_cast<GatherEntry>(n1);
+}
+/// \brief The fields of a gather entry (gather_entry's inverse).
+struct GatherFields {
+  int iface, side, n0, n1;
+};
+KOKKOS_INLINE_FUNCTION constexpr GatherFields gather_fields(GatherEntry e) {
+  return {static_cast<int>(e >> 7), static_cast<int>((e >> 6) & 1u), static_cast<int>((e >> 3) & 7u),
+          static_cast<int>(e & 7u)};
 }
 
 /// Layout of the per-element, per-interface and per-type arrays (see above): LayoutLeft on a GPU,
@@ -83,7 +95,8 @@ struct Model {
   /// in increasing interface order (no atomics, same bits on any thread count); each entry packs
   /// (interface, side, the side's two local nodes) (gather_entry), so the gather reads the
   /// interface's force row and nothing else of it.
-  Kokkos::View<int*, MemorySpace> goff, gent;
+  Kokkos::View<int*, MemorySpace> goff;
+  Kokkos::View<GatherEntry*, MemorySpace> gent;
   /// Tiled element apply: work item w < n_tiles covers the free elements
   /// tile_elem[tile_start(w) .. tile_start(w + 1)): at most kTile, one type, increasing, within
   /// one window of kTileWindow elements; the windows in order, in a window the types in order;

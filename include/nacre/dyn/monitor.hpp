@@ -35,7 +35,8 @@ namespace nacre::dyn {
 template <class MemorySpace>
 struct StepBound {
   InterfaceOp<MemorySpace> op;
-  Kokkos::View<const int*, MemorySpace> type, goff, gent;
+  Kokkos::View<const int*, MemorySpace> type, goff;
+  Kokkos::View<const GatherEntry*, MemorySpace> gent;
   Kokkos::View<const std::int8_t*, MemorySpace> drive;
   Kokkos::View<const double**, ElemLayout<MemorySpace>, MemorySpace> mass;
   Kokkos::View<const double*, MemorySpace> klam;
@@ -71,7 +72,8 @@ struct StepBound {
     double row[kMaxDof];
     for (int j = 0; j < nd; ++j) row[j] = 0.0;
     for (int k = goff(e); k < goff(e + 1); ++k) {
-      const int ent = gent(k), i = ent >> 7, side = (ent >> 6) & 1, n0 = (ent >> 3) & 7, n1 = ent & 7;
+      const GatherFields g = gather_fields(gent(k));
+      const int i = g.iface, side = g.side, n0 = g.n0, n1 = g.n1;
       double r[4];
       iface_rows(i, side, r);
       row[2 * n0] += r[0], row[2 * n0 + 1] += r[1], row[2 * n1] += r[2], row[2 * n1 + 1] += r[3];
@@ -118,7 +120,8 @@ void controlling_interface(const ExecutionSpace& space, const StepBound<MemOf<Ex
       "nacre::dyn::monitor::controlling_interface", Kokkos::RangePolicy<ExecutionSpace>(space, 0, 1),
       KOKKOS_LAMBDA(const int, V& acc) {
         for (int k = sb.goff(e); k < sb.goff(e + 1); ++k) {
-          const int ent = sb.gent(k), i = ent >> 7, side = (ent >> 6) & 1;
+          const GatherFields g = gather_fields(sb.gent(k));
+          const int i = g.iface, side = g.side;
           double rr[4];
           sb.iface_rows(i, side, rr);
           const double m = Kokkos::max(Kokkos::max(rr[0], rr[1]), Kokkos::max(rr[2], rr[3]));
