@@ -233,9 +233,9 @@ struct Integrator {
              const DofView<MemorySpace>& a_, const AccView<MemorySpace>& acc_, const DrivenAccView<MemorySpace>& dacc_,
              const IforceView<MemorySpace>& f_)
       : type(m.type), type_nodes(m.type_nodes), goff(m.goff), tile_start(m.tile_start), tile_elem(m.tile_elem),
-        driven(m.driven), driven_index(m.driven_index), gent(m.gent), drive(m.drive), cx(m.cx), cy(m.cy),
-        K(m.K), Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_),
-        u(u_), v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven),
+        driven(m.driven), driven_index(m.driven_index), gent(m.gent), drive(m.drive), cx(m.cx), cy(m.cy), K(m.K),
+        Ainv(m.Ainv), mass(m.mass), theta(m.theta), fp(m.fp), node_x(m.node_x), node_y(m.node_y), iforce(f_), u(u_),
+        v(v_), a(a_), acc(acc_), dacc(dacc_), nd(m.nd), n_tiles(m.n_tiles), n_driven(m.n_driven),
         has_fp(m.fp.extent(0) > 0), h(m.h), alpha(m.alpha), beta(m.beta), load(m.pattern) {}
 
   /// Prescribed displacement per unit opening of node j of element e: the loading pattern's
