@@ -49,11 +49,14 @@ def main():
     for i, b in enumerate(names):
         e = j["backends"][b]
         f = e.get("fraction_of_triad")
+        fma = e.get("fraction_of_fma")
         note = f"x{e['speedup_over_reference']:.2f}" + (f", {100 * f:.0f}% of triad" if f else "")
+        note += f", {100 * fma:.0f}% of FMA" if fma else ""
         if e.get("rng_gbit_per_s"):
             note += f"\nrng {e['rng_gbit_per_s']:.3g} Gbit/s"
         note += "\n" + ("bit-identical" if e.get("bit_identical_to_" + names[0], False) else "DIFFERS")
         ax2.text(i, thr[i], note, ha="center", va="bottom", fontsize=8)
+    ax2.set_ylim(0, 1.25 * max(thr))  # room for the notes above the bars
     ax2.set_ylabel("brick-steps per second" if j["solver"] == "dynamics" else "brick trials per second")
     ax2.set_title(f"throughput; speed-up over {j['reference_backend']}; agreement {j['agreement']}")
     gpu = j["machine"].get("gpu")
