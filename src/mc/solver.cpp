@@ -444,7 +444,7 @@ template <class Exec>
 std::optional<double> SolverOn<Exec>::cycle_flops() const {
   const auto per_trial = trial_flops(m_, step_, rot_step_, temperature_);
   if (!per_trial) return std::nullopt;
-  return per_trial->flops() * static_cast<double>(m_.n_free);
+  return *per_trial * static_cast<double>(m_.n_free);
 }
 
 template <class Exec>

@@ -27,10 +27,6 @@ inline constexpr double kTranscendentalFlops = 20.0;
 struct Counts {
   double add = 0, mul = 0, div = 0, sqrt = 0, transcendental = 0;
   [[nodiscard]] double flops() const { return add + mul + div + sqrt + kTranscendentalFlops * transcendental; }
-  Counts& operator+=(const Counts& o) {
-    add += o.add, mul += o.mul, div += o.div, sqrt += o.sqrt, transcendental += o.transcendental;
-    return *this;
-  }
 };
 
 /// \brief The running tally `Counted` adds to (host; one thread counts at a time).

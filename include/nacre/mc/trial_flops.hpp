@@ -22,8 +22,8 @@ namespace nacre::mc {
 /// Metropolis exponential where the move raises the energy at temperature > 0. Nullopt for a
 /// model with a damage history (the irreversible law's energy is not templated on the scalar).
 template <class MemorySpace>
-std::optional<flops::Counts> trial_flops(const Model<MemorySpace>& m, double step, double rot_step, double temperature,
-                                         int max_samples = 20000) {
+std::optional<double> trial_flops(const Model<MemorySpace>& m, double step, double rot_step, double temperature,
+                                  int max_samples = 20000) {
   if (m.hist.data() || m.n_free == 0) return std::nullopt;
   using flops::Counted;
   const auto pose = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.pose);
@@ -33,7 +33,7 @@ std::optional<flops::Counts> trial_flops(const Model<MemorySpace>& m, double ste
   const auto skind = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.slot_kind);
   const int stride = std::max(1, m.n_free / std::max(1, max_samples));
   const double u[4] = {0.75, 0.25, 0.75, 0.5};  // |2u - 1| = 1/2: the mean move of a uniform
-  flops::Counts total;
+  double total = 0;
   long samples = 0;
   for (int b = 0; b < m.n_free; b += stride, ++samples) {
     total += flops::count([&] {
@@ -47,11 +47,9 @@ std::optional<flops::Counts> trial_flops(const Model<MemorySpace>& m, double ste
       }
       const Counted d = e_new - e_old;
       if (temperature > 0.0 && d > 0.0) (void)sc::exp(-d * (1.0 / temperature));
-    });
+    }).flops();
   }
-  const double inv = 1.0 / static_cast<double>(samples);
-  total.add *= inv, total.mul *= inv, total.div *= inv, total.sqrt *= inv, total.transcendental *= inv;
-  return total;
+  return total / static_cast<double>(samples);
 }
 
 }  // namespace nacre::mc
