@@ -23,6 +23,7 @@
 #include <cstring>
 #include <iostream>
 #include <random>
+#include <utility>
 #include <vector>
 
 using namespace nacre;
@@ -150,17 +151,22 @@ TEMPLATE_LIST_TEST_CASE("mc kernels leave the same bits on every host backend", 
 TEMPLATE_LIST_TEST_CASE("deterministic_sum adds in fixed blocks on every host backend", "[core][backends]",
                         test::HostBackends) {
   using Space = TestType;
-  const int n = 1000;  // 8 blocks of 128, the last one partial
   SumWorkspace<typename Space::memory_space> ws;
   auto term = KOKKOS_LAMBDA(const int i) { return 1.0 / (1.0 + i) * ((i % 3) ? 1.0 : -1e3); };
-  double expect = 0.0;
-  for (int b0 = 0; b0 < n; b0 += SumWorkspace<>::kBlock) {
-    double s = 0.0;
-    for (int i = b0; i < std::min(n, b0 + SumWorkspace<>::kBlock); ++i) s += term(i);
-    expect += s;
+  // 8 blocks of 128 (the last one partial); and, from an offset, enough terms for a device's
+  // two-pass sum (SumWorkspace::kTwoPassMin): the same blocks, the same bits
+  constexpr int kB = SumWorkspace<>::kBlock;
+  for (const auto& [begin, end] : {std::pair{0, 1000}, std::pair{3, 3 + SumWorkspace<>::kTwoPassMin + 1000}}) {
+    double expect = 0.0;
+    for (int b0 = begin; b0 < end; b0 += kB) {
+      double s = 0.0;
+      for (int i = b0; i < std::min(end, b0 + kB); ++i) s += term(i);
+      expect += s;
+    }
+    const double got = deterministic_sum(Space{}, "nacre::test::blocked_sum", ws, begin, end, term);
+    CAPTURE(begin, end, got, expect);
+    CHECK(std::memcmp(&got, &expect, sizeof got) == 0);
   }
-  const double got = deterministic_sum(Space{}, "nacre::test::blocked_sum", ws, 0, n, term);
-  CHECK(std::memcmp(&got, &expect, sizeof got) == 0);
   CHECK(deterministic_sum(Space{}, "nacre::test::empty_sum", ws, 5, 5, term) == 0.0);
 }
 
