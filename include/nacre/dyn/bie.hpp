@@ -308,6 +308,8 @@ struct BieIntegrator {
       ex(InitialTag{}, e);
       return;
     }
+    if constexpr (kDeviceMemory<MemorySpace>)
+      if (dispatch_nd(ex.nd, [&](auto N) { split_start_one<decltype(N)::value>(e); })) return;
     double p[kMaxDof][1], v[kMaxDof][1], g[kMaxBie][1];
     split_start_lanes<1>(ex.type(e), &e, 1, p, v, g);
     store_residual(e, g);
@@ -319,6 +321,8 @@ struct BieIntegrator {
       ex.final_driven(e);
       return;
     }
+    if constexpr (kDeviceMemory<MemorySpace>)
+      if (dispatch_nd(ex.nd, [&](auto N) { split_final_one<decltype(N)::value>(e); })) return;
     const int t = ex.type(e);
     {  // the books from the stored p_n, v+ and this p_{n+1}, v-
       double u[kMaxDof][1], v[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1];
@@ -329,6 +333,69 @@ struct BieIntegrator {
       store_books(e, work[0], pd[0], g2[0], d2[0]);  // g2 = 0: no iteration, nothing left unconverged
     }
     split_kick_lanes<1>(t, &e, 1);
+  }
+
+  // The split step's two per-element kernels for a GPU thread, the dof count ND fixed at compile
+  // time (as Integrator::final_one): the arrays a row loop indexes are not kept (their entries
+  // are re-read from the state, or written as soon as they are made), the rest stays in registers;
+  // the same operations in the same order as split_start_lanes<1> / tile_books<1> +
+  // split_kick_lanes<1>, so the same bits (ptxas -v, sm_90: the lane code at width 1 kept its
+  // arrays in a 768 B / 1 KB stack frame per thread).
+
+  template <int ND>
+  KOKKOS_INLINE_FUNCTION void split_start_one(int e) const {
+    const int t = ex.type(e), s = slot_of_elem(e);
+    const double h = ex.h;
+    double wv[ND];
+    NACRE_DYN_UNROLL
+    for (int j = 0; j < ND; ++j) wv[j] = ex.u(e, j) + ex.beta * (ex.v(e, j) + 0.5 * h * ex.a(e, j));
+    NACRE_DYN_ROLLED
+    for (int i = 0; i < ND; ++i) {
+      double kw = 0;
+      NACRE_DYN_UNROLL
+      for (int j = 0; j < ND; ++j) kw += ex.K(t, i, j) * wv[j];
+      const double mi = minv(t, i), p = ex.u(e, i), vi = ex.v(e, i) + 0.5 * h * ex.a(e, i);
+      const double al = -mi * kw - ex.alpha * vi;
+      R(s, i) = h * vi + 0.5 * h * h * al;
+      R(s, ND + i) = h * al;
+      pn(e, i) = p, vn(e, i) = vi, ex.v(e, i) = vi;  // row i is not read again
+    }
+  }
+
+  template <int ND>
+  KOKKOS_INLINE_FUNCTION void split_final_one(int e) const {
+    const int t = ex.type(e);
+    const double h = ex.h;
+    {  // the books from the stored p_n, v+ and this p_{n+1}, v- (tile_books with ax = nullptr)
+      double vm[ND], work = 0;
+      NACRE_DYN_UNROLL
+      for (int j = 0; j < ND; ++j) {
+        vm[j] = 0.5 * (ex.v(e, j) + vn(e, j));
+        work += (ex.theta(t, j) + (ex.has_fp ? ex.fp(e, j) : 0.0)) * (ex.u(e, j) - pn(e, j));
+      }
+      double pd = 0, g2 = 0, d2 = 0;
+      NACRE_DYN_ROLLED
+      for (int i = 0; i < ND; ++i) {
+        double kv = 0;
+        if (ex.beta != 0.0) {
+          NACRE_DYN_UNROLL
+          for (int j = 0; j < ND; ++j) kv += ex.K(t, i, j) * vm[j];
+        }
+        const double m = ex.mass(t, i), dp = ex.u(e, i) - pn(e, i), v = ex.v(e, i), v0 = vn(e, i);
+        pd += dp * (ex.alpha * m * (0.5 * (v + v0)) + (ex.beta != 0.0 ? ex.beta * kv : 0.0));
+        const double dvi = v - v0, gv = 0.0;
+        g2 += m * gv * gv, d2 += m * dvi * dvi;
+      }
+      store_books(e, work, pd, g2, d2);
+    }
+    // the end kick (split_kick_lanes): phi_{n+1} = M^-1 F, v_{n+1} = v- + h/2 phi_{n+1}
+    double f[ND];
+    ex.template gather<ND>(e, f);
+    NACRE_DYN_UNROLL
+    for (int i = 0; i < ND; ++i) {
+      const double ax = minv(t, i) * (f[i] + (ex.theta(t, i) + (ex.has_fp ? ex.fp(e, i) : 0.0)));
+      ex.v(e, i) = ex.v(e, i) + 0.5 * h * ax, ex.a(e, i) = ax;
+    }
   }
 
   /// End-of-step work item w beyond the tiles: a driven element, booked as the explicit methods

@@ -36,6 +36,28 @@
 
 namespace nacre::dyn {
 
+/// \brief f(std::integral_constant<int, ND>{}) for the model's dof count nd (6, 8, ..., 16: 2 x the
+/// largest element's nodes), false for any other: the device kernels' per-element steps with the
+/// count fixed at compile time (final_one, BieIntegrator's split_*_one). One nd per model, so the
+/// switch never diverges.
+template <class F>
+KOKKOS_INLINE_FUNCTION bool dispatch_nd(int nd, const F& f) {
+  switch (nd) {
+    case 6: f(std::integral_constant<int, 6>{}); return true;
+    case 8: f(std::integral_constant<int, 8>{}); return true;
+    case 10: f(std::integral_constant<int, 10>{}); return true;
+    case 12: f(std::integral_constant<int, 12>{}); return true;
+    case 14: f(std::integral_constant<int, 14>{}); return true;
+    case 16: f(std::integral_constant<int, 16>{}); return true;
+    default: return false;
+  }
+}
+
+/// True where a kernel on MemorySpace runs on a device (the per-element steps of dispatch_nd);
+/// host memory keeps the lane code its tiles share.
+template <class MemorySpace>
+inline constexpr bool kDeviceMemory = !Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
+
 struct ForceTag {};
 struct InitialTag {};
 /// How final_integrate applies (M + h/2 C)^-1: the dense product, or its diagonal where every
@@ -312,26 +334,16 @@ struct Integrator {
 
   /// End of step of element e: a free element as a lane of final_free (a tile of width 1), a
   /// driven one booked by final_driven.
-  /// On a device a free element takes final_one with its dof count fixed at compile time (nd is
-  /// one per model, 2 x its largest element's nodes, so the switch never diverges); on the host
-  /// final_free, whose loops the tiled walk shares. The same bits either way.
+  /// On a device a free element takes final_one with its dof count fixed at compile time
+  /// (dispatch_nd); on the host final_free, whose loops the tiled walk shares. The same bits.
   template <class AinvForm>
   KOKKOS_INLINE_FUNCTION void operator()(FinalTag<AinvForm>, int e) const {
     if (drive(e) != 0) {
       final_driven(e);
       return;
     }
-    if constexpr (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible) {
-      switch (nd) {
-        case 6: final_one<AinvForm, 6>(e); return;
-        case 8: final_one<AinvForm, 8>(e); return;
-        case 10: final_one<AinvForm, 10>(e); return;
-        case 12: final_one<AinvForm, 12>(e); return;
-        case 14: final_one<AinvForm, 14>(e); return;
-        case 16: final_one<AinvForm, 16>(e); return;
-        default: break;
-      }
-    }
+    if constexpr (kDeviceMemory<MemorySpace>)
+      if (dispatch_nd(nd, [&](auto N) { final_one<AinvForm, decltype(N)::value>(e); })) return;
     final_free<1, AinvForm>(type(e), &e, 1);
   }
 
