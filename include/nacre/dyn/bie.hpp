@@ -308,8 +308,7 @@ struct BieIntegrator {
       ex(InitialTag{}, e);
       return;
     }
-    if constexpr (kDeviceMemory<MemorySpace>)
-      if (dispatch_nd(ex.nd, [&](auto N) { split_start_one<decltype(N)::value>(e); })) return;
+    if (dispatch_nd(ex.nd, [&](auto N) { split_start_one<decltype(N)::value>(e); })) return;
     double p[kMaxDof][1], v[kMaxDof][1], g[kMaxBie][1];
     split_start_lanes<1>(ex.type(e), &e, 1, p, v, g);
     store_residual(e, g);
@@ -321,8 +320,7 @@ struct BieIntegrator {
       ex.final_driven(e);
       return;
     }
-    if constexpr (kDeviceMemory<MemorySpace>)
-      if (dispatch_nd(ex.nd, [&](auto N) { split_final_one<decltype(N)::value>(e); })) return;
+    if (dispatch_nd(ex.nd, [&](auto N) { split_final_one<decltype(N)::value>(e); })) return;
     const int t = ex.type(e);
     {  // the books from the stored p_n, v+ and this p_{n+1}, v-
       double u[kMaxDof][1], v[kMaxDof][1], p0[kMaxDof][1], v0[kMaxDof][1];

@@ -53,11 +53,6 @@ KOKKOS_INLINE_FUNCTION bool dispatch_nd(int nd, const F& f) {
   }
 }
 
-/// True where a kernel on MemorySpace runs on a device (the per-element steps of dispatch_nd);
-/// host memory keeps the lane code its tiles share.
-template <class MemorySpace>
-inline constexpr bool kDeviceMemory = !Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
-
 struct ForceTag {};
 struct InitialTag {};
 /// How final_integrate applies (M + h/2 C)^-1: the dense product, or its diagonal where every
@@ -334,16 +329,16 @@ struct Integrator {
 
   /// End of step of element e: a free element as a lane of final_free (a tile of width 1), a
   /// driven one booked by final_driven.
-  /// On a device a free element takes final_one with its dof count fixed at compile time
-  /// (dispatch_nd); on the host final_free, whose loops the tiled walk shares. The same bits.
+  /// A free element takes final_one with its dof count fixed at compile time (dispatch_nd), on
+  /// every backend: the per-element walk is the GPU's, and on the host (UE, or element_apply =
+  /// "per-element") the tests compare it bit for bit with the tiled walk's final_free.
   template <class AinvForm>
   KOKKOS_INLINE_FUNCTION void operator()(FinalTag<AinvForm>, int e) const {
     if (drive(e) != 0) {
       final_driven(e);
       return;
     }
-    if constexpr (kDeviceMemory<MemorySpace>)
-      if (dispatch_nd(nd, [&](auto N) { final_one<AinvForm, decltype(N)::value>(e); })) return;
+    if (dispatch_nd(nd, [&](auto N) { final_one<AinvForm, decltype(N)::value>(e); })) return;
     final_free<1, AinvForm>(type(e), &e, 1);
   }
 
