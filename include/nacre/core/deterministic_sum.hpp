@@ -41,7 +41,8 @@ struct SumWorkspace {
   }
   void reserve_terms(int n) {
     if (static_cast<int>(terms.extent(0)) < n)
-      terms = Kokkos::View<double*, MemorySpace>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::core::sum_terms"), n);
+      terms = Kokkos::View<double*, MemorySpace>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::core::sum_terms"), n);
   }
 };
 

@@ -43,13 +43,13 @@ namespace nacre::dyn {
 template <class F>
 KOKKOS_INLINE_FUNCTION bool dispatch_nd(int nd, const F& f) {
   switch (nd) {
-    case 6: f(std::integral_constant<int, 6>{}); return true;
-    case 8: f(std::integral_constant<int, 8>{}); return true;
-    case 10: f(std::integral_constant<int, 10>{}); return true;
-    case 12: f(std::integral_constant<int, 12>{}); return true;
-    case 14: f(std::integral_constant<int, 14>{}); return true;
-    case 16: f(std::integral_constant<int, 16>{}); return true;
-    default: return false;
+  case 6: f(std::integral_constant<int, 6>{}); return true;
+  case 8: f(std::integral_constant<int, 8>{}); return true;
+  case 10: f(std::integral_constant<int, 10>{}); return true;
+  case 12: f(std::integral_constant<int, 12>{}); return true;
+  case 14: f(std::integral_constant<int, 14>{}); return true;
+  case 16: f(std::integral_constant<int, 16>{}); return true;
+  default: return false;
   }
 }
 

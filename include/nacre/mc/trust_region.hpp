@@ -424,8 +424,8 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
               "nacre::mc::newton::backtrack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
               KOKKOS_LAMBDA(const int b) {
                 store_frame(pose, b,
-                            kinematics::make_frame(kinematics::Pose{save(b, 0) + al * z(b, 0), save(b, 1) + al * z(b, 1),
-                                                                    save(b, 2) + al * z(b, 2)}));
+                            kinematics::make_frame(kinematics::Pose{
+                                save(b, 0) + al * z(b, 0), save(b, 1) + al * z(b, 1), save(b, 2) + al * z(b, 2)}));
               });
           dEa = deterministic_sum(
               space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
@@ -444,7 +444,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         r.residual = residual_of(space, grad, nf, scale);
         partial = true;
         radius = alpha * snorm;  // the model held up to here
-      } else {  // back to the saved poses
+      } else {                   // back to the saved poses
         ++r.rejected;
         Kokkos::parallel_for(
             "nacre::mc::newton::reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
