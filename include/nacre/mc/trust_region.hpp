@@ -106,6 +106,9 @@ public:
   double minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g, int nf) const;
   /// 4 eps sum |e(i)|: the rounding of an energy change summed as per-interface differences
   double rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e, int ni) const;
+  /// sum over interfaces of (energy at the poses now - e(i)), the energies now into trial
+  double energy_change(const ExecutionSpace& space, SumWorkspace<>& ws, const InterfaceEvaluator<MemSpace>& ev,
+                       const Field<double>& e, const Field<double>& trial, int ni) const;
   /// the preconditioner from the Hessian at the current poses (floors: translation, rotation)
   void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
   /// y = M^-1 r
@@ -191,6 +194,18 @@ double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, Sum
          deterministic_sum(
              space, "nacre::mc::newton::energy_scale", ws, 0, ni,
              KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+}
+
+template <class ExecutionSpace>
+double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, SumWorkspace<>& ws,
+                                                  const InterfaceEvaluator<MemSpace>& ev, const Field<double>& e,
+                                                  const Field<double>& trial, int ni) const {
+  return deterministic_sum(
+      space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
+        const double v = ev.energy(i);
+        trial(i) = v;
+        return v - e(i);
+      });
 }
 
 template <class ExecutionSpace>
@@ -384,13 +399,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
                       kinematics::make_frame(
                           kinematics::Pose{pose(b, 0) + z(b, 0), pose(b, 1) + z(b, 1), pose(b, 2) + z(b, 2)}));
         });
-    auto en = e, et = trial;
-    const double dE = deterministic_sum(
-        space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
-          const double v = ev.energy(i);
-          et(i) = v;
-          return v - en(i);
-        });
+    const double dE = energy_change(space, ws, ev, e, trial, ni);
     // below the rounding of the energy the ratio means nothing: the residual decides
     const double old_residual = r.residual;
     double rho;
@@ -401,57 +410,44 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     } else {
       rho = -dE / pred;
     }
-    bool partial = false;  // rejected whole, taken in part (the radius is its length)
-    if (rho > 1e-4) {  // accepted
-      std::swap(e, trial);
-      r.energy_change += dE;
-      rounding = rounding_of(space, ws, e, ni);
-      brick_gradient(space, m, grad);
-      r.residual = residual_of(space, grad, nf, scale);
-    } else {
+    bool taken = rho > 1e-4, partial = false;  // partial: rejected whole, taken in part
+    double dE_taken = dE;
+    if (!taken && pred > rounding && gs < 0.0) {
       // rejected: back along the step before giving it up. Where the model fails it is mostly a
       // joint's kink (contact penalty, the law's peak) crossed part-way along s; the energy at
       // save + alpha s for alpha = 1/2, 1/4, 1/8 costs one energy pass each, against a new CG
       // solve (and often a refactorisation) for a rejected step. A fraction is taken when its
       // own ratio to the model's decrease along the line passes the acceptance test.
-      double alpha = 1.0, dEa = 0.0;
-      bool taken = false;
-      if (pred > rounding && gs < 0.0)
-        for (int k = 0; k < kBacktracks && !taken; ++k) {
-          alpha *= 0.5;
-          const double al = alpha;
-          Kokkos::parallel_for(
-              "nacre::mc::newton::backtrack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
-              KOKKOS_LAMBDA(const int b) {
-                store_frame(pose, b,
-                            kinematics::make_frame(kinematics::Pose{
-                                save(b, 0) + al * z(b, 0), save(b, 1) + al * z(b, 1), save(b, 2) + al * z(b, 2)}));
-              });
-          dEa = deterministic_sum(
-              space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
-                const double v = ev.energy(i);
-                et(i) = v;
-                return v - en(i);
-              });
-          const double pred_a = -(al * gs + 0.5 * al * al * sHs);
-          taken = pred_a > rounding && -dEa / pred_a > 1e-4;
-        }
-      if (taken) {
-        std::swap(e, trial);
-        r.energy_change += dEa;
-        rounding = rounding_of(space, ws, e, ni);
-        brick_gradient(space, m, grad);
-        r.residual = residual_of(space, grad, nf, scale);
-        partial = true;
-        radius = alpha * snorm;  // the model held up to here
-      } else {                   // back to the saved poses
-        ++r.rejected;
+      double alpha = 1.0;
+      for (int k = 0; k < kBacktracks && !taken; ++k) {
+        alpha *= 0.5;
+        const double al = alpha;
         Kokkos::parallel_for(
-            "nacre::mc::newton::reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
-              store_frame(pose, b, kinematics::make_frame(kinematics::Pose{save(b, 0), save(b, 1), save(b, 2)}));
+            "nacre::mc::newton::backtrack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
+            KOKKOS_LAMBDA(const int b) {
+              store_frame(pose, b,
+                          kinematics::make_frame(kinematics::Pose{save(b, 0) + al * z(b, 0), save(b, 1) + al * z(b, 1),
+                                                                  save(b, 2) + al * z(b, 2)}));
             });
-        brick_gradient(space, m, grad);
+        dE_taken = energy_change(space, ws, ev, e, trial, ni);
+        const double pred_a = -(al * gs + 0.5 * al * al * sHs);
+        taken = pred_a > rounding && -dE_taken / pred_a > 1e-4;
       }
+      if (taken) partial = true, radius = alpha * snorm;  // the model held up to here
+    }
+    if (taken) {
+      std::swap(e, trial);
+      r.energy_change += dE_taken;
+      rounding = rounding_of(space, ws, e, ni);
+      brick_gradient(space, m, grad);
+      r.residual = residual_of(space, grad, nf, scale);
+    } else {  // rejected: back to the saved poses
+      ++r.rejected;
+      Kokkos::parallel_for(
+          "nacre::mc::newton::reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
+            store_frame(pose, b, kinematics::make_frame(kinematics::Pose{save(b, 0), save(b, 1), save(b, 2)}));
+          });
+      brick_gradient(space, m, grad);
     }
     if (rho < 0.25 && !partial)
       radius = 0.25 * snorm;
