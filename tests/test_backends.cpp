@@ -20,8 +20,10 @@
 #include <catch2/catch_test_macros.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -148,25 +150,59 @@ TEMPLATE_LIST_TEST_CASE("mc kernels leave the same bits on every host backend", 
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("deterministic_sum adds in fixed blocks on every host backend", "[core][backends]",
-                        test::HostBackends) {
+TEMPLATE_LIST_TEST_CASE("deterministic_sum: the same bits in any order and any split, exact where the sum is",
+                        "[core][backends]", test::HostBackends) {
   using Space = TestType;
   SumWorkspace<typename Space::memory_space> ws;
-  auto term = KOKKOS_LAMBDA(const int i) { return 1.0 / (1.0 + i) * ((i % 3) ? 1.0 : -1e3); };
-  // 8 blocks of 128 (the last one partial); and, from an offset, enough terms for a device's
-  // two-pass sum (SumWorkspace::kTwoPassMin): the same blocks, the same bits
-  constexpr int kB = SumWorkspace<>::kBlock;
-  for (const auto& [begin, end] : {std::pair{0, 1000}, std::pair{3, 3 + SumWorkspace<>::kTwoPassMin + 1000}}) {
-    double expect = 0.0;
-    for (int b0 = begin; b0 < end; b0 += kB) {
-      double s = 0.0;
-      for (int i = b0; i < std::min(end, b0 + kB); ++i) s += term(i);
-      expect += s;
+  // heavy cancellation over 16 binades: the order of a plain sum changes its last bits
+  auto term = KOKKOS_LAMBDA(const int i) { return 1.0 / (1.0 + i) * ((i % 3) ? 1.0 : -1e3) * (1 + (i % 7) * 1e-9); };
+  for (const auto& [begin, end] : {std::pair{0, 1000}, std::pair{3, 3 + 40000}}) {
+    const double got = deterministic_sum(Space{}, "nacre::test::fold_sum", ws, begin, end, term);
+    // the same terms folded on the host in a shuffled order, cut into pieces whose level sums
+    // are joined in reverse (as ranks' partial results would be): the same bits
+    std::vector<double> t;
+    for (int i = begin; i < end; ++i) t.push_back(term(i));
+    std::mt19937 g(7);
+    std::shuffle(t.begin(), t.end(), g);
+    double amax = 0;
+    for (double x : t) amax = std::max(amax, std::abs(x));
+    const sum::Plan plan = sum::plan(amax, static_cast<long long>(t.size()));
+    std::vector<sum::Levels> pieces(5);
+    for (std::size_t k = 0; k < t.size(); ++k) sum::fold(plan, t[k], pieces[(k * 7919) % pieces.size()]);
+    sum::Levels joined;
+    for (auto it = pieces.rbegin(); it != pieces.rend(); ++it)
+      for (int l = 0; l < sum::kFolds; ++l) joined.s[l] += it->s[l];
+    const double shuffled = sum::total(plan, joined);
+    // an accurate reference: long double, compensated, sorted by magnitude
+    std::sort(t.begin(), t.end(), [](double x, double y) { return std::abs(x) < std::abs(y); });
+    long double ref = 0, c = 0;
+    for (double x : t) {
+      const long double y = x - c, z = ref + y;
+      c = (z - ref) - y, ref = z;
     }
-    const double got = deterministic_sum(Space{}, "nacre::test::blocked_sum", ws, begin, end, term);
-    CAPTURE(begin, end, got, expect);
-    CHECK(std::memcmp(&got, &expect, sizeof got) == 0);
+    CAPTURE(begin, end, got, shuffled, static_cast<double>(ref));
+    CHECK(std::memcmp(&got, &shuffled, sizeof got) == 0);
+    CHECK(std::abs(got - static_cast<double>(ref)) <= 2 * std::numeric_limits<double>::epsilon() * std::abs(got));
   }
+  // exact where the exact sum is a double: +-x pairs across 40 binades cancel to the small tail
+  auto pairs = KOKKOS_LAMBDA(const int i) {
+    if (i >= 2000) return i == 2000 ? 0.375 : 0.0;
+    const int k = i / 2;
+    double p = 1.0 / 1024;  // 2^((k % 41) - 10), exactly
+    for (int j = 0; j < k % 41; ++j) p *= 2;
+    return ((i % 2) ? -1.0 : 1.0) * (1.0 + (k % 17) / 32.0) * p;
+  };
+  CHECK(deterministic_sum(Space{}, "nacre::test::fold_exact", ws, 0, 2500, pairs) == 0.375);
+  // terms near the top of the range (the scaled path) and non-finite terms
+  auto huge = KOKKOS_LAMBDA(const int i) { return i == 1000 ? 1e300 : (i % 2 ? -1.0 : 1.0) * 1e306; };
+  CHECK(deterministic_sum(Space{}, "nacre::test::fold_huge", ws, 0, 1001, huge) == 1e300);
+  const double inf = std::numeric_limits<double>::infinity();
+  auto one_inf = KOKKOS_LAMBDA(const int i) { return i == 500 ? -inf : 1.0; };
+  auto both_inf = KOKKOS_LAMBDA(const int i) { return i == 5 ? inf : (i == 6 ? -inf : 1.0); };
+  auto a_nan = KOKKOS_LAMBDA(const int i) { return i == 9 ? 0.0 * inf : 1.0; };
+  CHECK(deterministic_sum(Space{}, "nacre::test::fold_inf", ws, 0, 1000, one_inf) == -inf);
+  CHECK(std::isnan(deterministic_sum(Space{}, "nacre::test::fold_infs", ws, 0, 1000, both_inf)));
+  CHECK(std::isnan(deterministic_sum(Space{}, "nacre::test::fold_nan", ws, 0, 1000, a_nan)));
   CHECK(deterministic_sum(Space{}, "nacre::test::empty_sum", ws, 5, 5, term) == 0.0);
 }
 

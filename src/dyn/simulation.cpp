@@ -93,7 +93,7 @@ struct Simulation::Impl {
     dacc = make<DrivenAccView<Mem>>("dacc", ndr), dacc0 = make<DrivenAccView<Mem>>("dacc0", ndr);
     iforce = make<IforceView<Mem>>("iforce", std::max(m.n_iface, 1));
     if (m.hist.data()) hist0 = decltype(hist0)("nacre::dyn::history0", m.hist.extent(0), m.hist.extent(1));
-    ws.reserve(std::max(ne, m.n_iface));
+    ws.reserve_terms(std::max(ne, m.n_iface));
     if (p.growth_factor > 0) {
       share = Kokkos::View<double*, Mem>("nacre::dyn::monitor::share", ne);
       run = Kokkos::View<std::int16_t*, Mem>("nacre::dyn::monitor::run", ne);
