@@ -123,12 +123,19 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
   std::vector<int> fill(n);
   for (int k = 0; k < n; ++k) fill[k] = hoff(k), hphi0(k) = 0;
   for (int i = 0; i < ni; ++i)
-    for (int side = 0; side < 2; ++side) {
-      const int k = hends(i, side);
-      hadj(fill[k]++) = i;
+    for (int side = 0; side < 2; ++side) hadj(fill[hends(i, side)]++) = i;
+  // Each brick's slots in the geometry's interface order, which is every sum's order per brick
+  // (trial energies, brick energies, gradients): it does not depend on the sweep order, so a
+  // rank's model of a part of the specimen (par/halo.hpp) adds in the order of the whole one.
+  for (int k = 0; k < n; ++k) {
+    std::sort(hadj.data() + hoff(k), hadj.data() + hoff(k + 1),
+              [&](int x, int y) { return iperm[x] < iperm[y]; });
+    for (int j = hoff(k); j < hoff(k + 1); ++j) {
+      const int i = hadj(j);
       const auto& law = m.laws[hkind(i)];
       hphi0(k) += 0.5 * law.k * law.x1 * law.x1 * hseg(i, col(SegCol::length));
     }
+  }
   // The sweep's oriented records, slot by slot in adjacency order (the order of the sums).
   const int ns = hoff(n);
   alloc(m.slot, "slot", ns), alloc(m.slot_link, "slot_link", ns), alloc(m.slot_kind, "slot_kind", ns);

@@ -190,14 +190,14 @@ struct BrickSteps {
   [[nodiscard]] bool active() const { return step.extent(0) > 0; }
 };
 
-/// \brief Each interface's energy at the current poses into cache(i): what the sweep's cache
-/// must hold before a cycle (after any pose change outside the sweep: load, predictor, polish,
-/// restore). The same arithmetic as the sweep's trial evaluation, so the cached value has the
-/// bits a recomputation would give.
+/// \brief interface_energies (below) for the interfaces list(0 .. n-1) only (an empty list:
+/// interfaces 0 .. n-1): the entries a halo exchange made stale (par/halo.hpp).
 template <class ExecutionSpace, class MemorySpace>
-void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache) {
+void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache,
+                        Kokkos::View<const int*, MemorySpace> list, int n) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(cache.extent(0) >= std::size_t(m.n_interfaces), "interface_energies: a cache entry per interface");
+  NACRE_ASSERT(list.data() == nullptr || list.extent(0) >= std::size_t(n), "interface_energies: n entries in the list");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");
   auto p = m.pose;
   auto ends = m.ends;
@@ -207,11 +207,20 @@ void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m
   const cohesive::LawTable laws = m.laws;
   const cohesive::Quadrature q = m.quad;
   Kokkos::parallel_for(
-      "nacre::mc::interface_energies", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
-      KOKKOS_LAMBDA(const int i) {
+      "nacre::mc::interface_energies", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        const int i = list.data() ? list(k) : k;
         cache(i) = kinematics::interface_energy(laws[kind(i)], q, load_segment(seg, i), frame_of(p, ends(i, 0)),
                                                 frame_of(p, ends(i, 1)), hist.data() ? &hist(i, 0) : nullptr);
       });
+}
+
+/// \brief Each interface's energy at the current poses into cache(i): what the sweep's cache
+/// must hold before a cycle (after any pose change outside the sweep: load, predictor, polish,
+/// restore). The same arithmetic as the sweep's trial evaluation, so the cached value has the
+/// bits a recomputation would give.
+template <class ExecutionSpace, class MemorySpace>
+void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache) {
+  interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>{}, m.n_interfaces);
 }
 
 /// \brief Energy of the interface in adjacency slot j with its brick in frame f and the other

@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// \brief The processes a run is spread over: MPI when nacre is built with NACRE_ENABLE_MPI, one
+/// process otherwise. Rank and size, the reductions whose results are the bits of the
+/// one-process computation, and the exchange of halo buffers with neighbour ranks.
+///
+/// Why mpi.h stays out of this header: only src/par/comm.cpp includes it, so the solvers, the
+/// tests and a build without MPI compile the same code (a Comm of one process then reduces to
+/// nothing and exchanges nothing).
+#include <nacre/core/deterministic_sum.hpp>
+
+#include <vector>
+
+namespace nacre::par {
+
+/// \brief Whether this build has MPI.
+[[nodiscard]] bool has_mpi();
+
+/// \brief MPI for the life of the object (MPI_Init_thread with funneled threads when built with
+/// MPI and not yet initialised; MPI_Finalize at the end if this object initialised it).
+class Environment {
+public:
+  Environment(int& argc, char**& argv);
+  ~Environment();
+  Environment(const Environment&) = delete;
+  Environment& operator=(const Environment&) = delete;
+
+private:
+  bool owns_ = false;
+};
+
+/// \brief All processes of the run (MPI_COMM_WORLD), or this one alone.
+class Comm {
+public:
+  /// \brief The world (one process in a build without MPI or before MPI is initialised).
+  static Comm world();
+
+  [[nodiscard]] int rank() const { return rank_; }
+  [[nodiscard]] int size() const { return size_; }
+
+  [[nodiscard]] double max(double x) const;
+  [[nodiscard]] long long sum(long long x) const;
+  /// \brief Element-wise sum over ranks of n long longs, in place.
+  void sum(long long* x, int n) const;
+  /// \brief Element-wise sum over ranks of n doubles that add exactly in any order (the level sums
+  /// of deterministic_sum), in place: every rank gets the same bits.
+  void sum_exact(double* x, int n) const;
+
+  /// \brief One round of point-to-point messages: send[k] goes to ranks[k] and recv[k] (its size
+  /// set by the caller, the sender's send size) comes from ranks[k]. Every pair of ranks that
+  /// exchanges lists the other (the halo relation is symmetric).
+  void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                std::vector<std::vector<double>>& recv) const;
+  /// \brief Rank 0 receives every rank's `mine` in rank order (others get an empty vector).
+  [[nodiscard]] std::vector<std::vector<double>> gather(const std::vector<double>& mine) const;
+  [[nodiscard]] std::vector<std::vector<long long>> gather(const std::vector<long long>& mine) const;
+  void barrier() const;
+
+private:
+  int rank_ = 0, size_ = 1;
+};
+
+/// \brief deterministic_sum's combine for a sum shared by the ranks of `comm`: each rank sums its
+/// own terms (the others' indices give 0) and `owned` is how many it owns, so the fold's grids
+/// are those of the one-process sum over all owned terms and the result has its bits.
+struct Reduce {
+  const Comm* comm;
+  long long owned;
+  void combine(sum::Scan& s, long long& n) const;
+  void combine(sum::Levels& l) const;
+};
+
+/// \brief Process grid for `size` ranks over a width x height specimen (MPI_Dims_create's
+/// factors, the larger along the longer side): dims[0] columns along x, dims[1] rows along y.
+void process_grid(int size, double width, double height, int dims[2]);
+
+}  // namespace nacre::par

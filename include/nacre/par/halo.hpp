@@ -1,0 +1,190 @@
+#pragma once
+/// \file
+/// \brief The Monte Carlo model of one rank (its owned bricks and their halo) and the exchange of
+/// halo poses that keeps a colour-swept cycle on many ranks the cycle of one process.
+///
+/// Why it gives the same bits: a brick's trial reads only its own pose, its interfaces' cached
+/// energies and its neighbours' poses, and draws its uniforms from Philox at (seed, global brick
+/// id, cycle). Bricks of one colour share no interface, so a colour's sweep on a rank that holds
+/// every neighbour of its owned bricks at their current poses makes the decisions one process
+/// makes. After each colour the owners send the poses of that colour's bricks to the ranks that
+/// hold them in a halo (all five numbers, the cached rotation included), and the receivers
+/// recompute the cached energies of the interfaces those bricks touch (the sweep's own
+/// arithmetic, so the bits of the owner's cache). Pack and unpack are Kokkos kernels on the
+/// run's execution space; the buffers cross MPI through host copies (no GPU-aware MPI needed).
+#include <nacre/mc/kernels.hpp>
+#include <nacre/mc/model.hpp>
+#include <nacre/par/comm.hpp>
+#include <nacre/par/decomposition.hpp>
+
+#include <string>
+#include <vector>
+
+namespace nacre::par {
+
+/// \brief The colouring of a rank's local bricks: owned bricks keep the global colour and tile,
+/// halo bricks get colour -1 (not swept here: build_model puts them after the swept bricks).
+[[nodiscard]] mc::Colouring local_colouring(const Decomposition& d, const mc::Colouring& global);
+
+/// \brief Poses per brick in a halo message (mc::Model::pose's row: x, y, theta, sin, cos - 1).
+inline constexpr int kPoseWords = 5;
+
+template <class MemorySpace>
+class PoseHalo {
+public:
+  /// \brief The message lists of rank d.rank's local model m (built from local_specimen,
+  /// local_interfaces and local_colouring(d, global)), per colour of the global colouring.
+  /// Also sets m.id to the global brick index (the RNG stream of one process).
+  template <class ExecutionSpace>
+  PoseHalo(const ExecutionSpace& space, const Decomposition& d, const mc::Colouring& global, mc::Model<MemorySpace>& m);
+
+  [[nodiscard]] const std::vector<int>& neighbours() const { return neighbours_; }
+
+  /// \brief Per neighbour, the poses of the owned bricks of `colour` (-1: every colour) it holds.
+  template <class ExecutionSpace>
+  std::vector<std::vector<double>> pack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour) const;
+  /// \brief Sizes of the messages `colour` brings from each neighbour.
+  [[nodiscard]] std::vector<std::vector<double>> receive_buffers(int colour) const;
+  /// \brief Store received poses; then, if cache is allocated, recompute the cached energies of the
+  /// interfaces the received bricks touch.
+  template <class ExecutionSpace>
+  void unpack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour,
+              const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const;
+  /// \brief pack, Comm::exchange, unpack.
+  template <class ExecutionSpace>
+  void exchange(const ExecutionSpace& space, const Comm& comm, const mc::Model<MemorySpace>& m, int colour,
+                Field<double, MemorySpace> cache = {}) const {
+    auto recv = receive_buffers(colour);
+    comm.exchange(neighbours_, pack(space, m, colour), recv);
+    unpack(space, m, colour, recv, cache);
+  }
+  /// \brief Bytes one full cycle sends (every colour once).
+  [[nodiscard]] long long cycle_bytes() const;
+
+private:
+  struct Lists {
+    Kokkos::View<int*, MemorySpace> send, recv, stale;  ///< sweep indices (neighbours concatenated); interfaces
+    std::vector<int> send_off, recv_off;                ///< per neighbour: [off[k], off[k+1])
+  };
+  std::vector<int> neighbours_;
+  std::vector<Lists> lists_;  ///< [colour + 1]: 0 = every colour
+  int n_colours_ = 0;
+  [[nodiscard]] const Lists& lists(int colour) const { return lists_.at(static_cast<std::size_t>(colour + 1)); }
+};
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const Decomposition& d, const mc::Colouring& global,
+                                mc::Model<MemorySpace>& m)
+    : neighbours_(d.neighbours), n_colours_(global.n_colours) {
+  mc::check_access<ExecutionSpace, MemorySpace>();
+  const int nl = static_cast<int>(d.bricks.size());
+  std::vector<int> sweep_of(nl);
+  for (int k = 0; k < nl; ++k) sweep_of[m.perm[k]] = k;
+  // global ids: the RNG streams of one process
+  auto hid = Kokkos::create_mirror_view(m.id);
+  for (int k = 0; k < nl; ++k) hid(k) = static_cast<std::uint64_t>(d.bricks[m.perm[k]]);
+  Kokkos::deep_copy(space, m.id, hid);
+  // the model's interfaces of each local brick (ends are sweep indices)
+  std::vector<std::vector<int>> touching(nl);
+  {
+    auto hends = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.ends);
+    for (int i = 0; i < m.n_interfaces; ++i)
+      touching[m.perm[hends(i, 0)]].push_back(i), touching[m.perm[hends(i, 1)]].push_back(i);
+  }
+  auto upload = [&](const std::vector<int>& v, const char* label) {
+    Kokkos::View<int*, MemorySpace> out(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, std::string(label)),
+                                        v.size());
+    auto h = Kokkos::create_mirror_view(out);
+    for (std::size_t k = 0; k < v.size(); ++k) h(k) = v[k];
+    Kokkos::deep_copy(space, out, h);
+    return out;
+  };
+  for (int c = -1; c < global.n_colours; ++c) {
+    const auto in_colour = [&](int local) { return c < 0 || global.colour[d.bricks[local]] == c; };
+    std::vector<int> send, recv, stale;
+    Lists l;
+    l.send_off.push_back(0), l.recv_off.push_back(0);
+    std::vector<char> seen(m.n_interfaces, 0);
+    for (std::size_t q = 0; q < d.neighbours.size(); ++q) {
+      for (int b : d.send[q])
+        if (in_colour(b)) send.push_back(sweep_of[b]);
+      for (int b : d.recv[q])
+        if (in_colour(b)) {
+          recv.push_back(sweep_of[b]);
+          for (int i : touching[b])
+            if (!seen[i]) seen[i] = 1, stale.push_back(i);
+        }
+      l.send_off.push_back(static_cast<int>(send.size())), l.recv_off.push_back(static_cast<int>(recv.size()));
+    }
+    std::sort(stale.begin(), stale.end());
+    l.send = upload(send, "nacre::par::halo_send"), l.recv = upload(recv, "nacre::par::halo_recv");
+    l.stale = upload(stale, "nacre::par::halo_stale");
+    lists_.push_back(std::move(l));
+  }
+  space.fence("nacre::par::PoseHalo");
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space,
+                                                             const mc::Model<MemorySpace>& m, int colour) const {
+  const Lists& l = lists(colour);
+  const int n = static_cast<int>(l.send.extent(0));
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::par::halo_pack"), n, kPoseWords);
+  auto pose = m.pose;
+  auto idx = l.send;
+  Kokkos::parallel_for(
+      "nacre::par::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        for (int w = 0; w < kPoseWords; ++w) buf(k, w) = pose(idx(k), w);
+      });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), buf);  // fences `space`'s copy
+  std::vector<std::vector<double>> out(neighbours_.size());
+  for (std::size_t q = 0; q < neighbours_.size(); ++q)
+    out[q].assign(h.data() + static_cast<std::size_t>(l.send_off[q]) * kPoseWords,
+                  h.data() + static_cast<std::size_t>(l.send_off[q + 1]) * kPoseWords);
+  return out;
+}
+
+template <class MemorySpace>
+std::vector<std::vector<double>> PoseHalo<MemorySpace>::receive_buffers(int colour) const {
+  const Lists& l = lists(colour);
+  std::vector<std::vector<double>> out(neighbours_.size());
+  for (std::size_t q = 0; q < neighbours_.size(); ++q)
+    out[q].resize(static_cast<std::size_t>(l.recv_off[q + 1] - l.recv_off[q]) * kPoseWords);
+  return out;
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour,
+                                   const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const {
+  const Lists& l = lists(colour);
+  const int n = static_cast<int>(l.recv.extent(0));
+  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::par::halo_unpack"), n, kPoseWords);
+  auto h = Kokkos::create_mirror_view(buf);
+  for (std::size_t q = 0; q < neighbours_.size(); ++q)
+    std::copy(recv[q].begin(), recv[q].end(), h.data() + static_cast<std::size_t>(l.recv_off[q]) * kPoseWords);
+  Kokkos::deep_copy(space, buf, h);
+  auto pose = m.pose;
+  auto idx = l.recv;
+  Kokkos::parallel_for(
+      "nacre::par::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        for (int w = 0; w < kPoseWords; ++w) pose(idx(k), w) = buf(k, w);
+      });
+  if (cache.data())
+    mc::interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
+                           static_cast<int>(l.stale.extent(0)));
+  space.fence("nacre::par::unpack");  // buf and h live until here
+}
+
+template <class MemorySpace>
+long long PoseHalo<MemorySpace>::cycle_bytes() const {
+  long long n = 0;
+  for (int c = 0; c < n_colours_; ++c) n += static_cast<long long>(lists(c).send.extent(0));
+  return n * kPoseWords * static_cast<long long>(sizeof(double));
+}
+
+}  // namespace nacre::par

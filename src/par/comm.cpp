@@ -1,0 +1,177 @@
+// The one file that includes mpi.h (include/nacre/par/comm.hpp says why). Built without MPI
+// (NACRE_HAVE_MPI undefined) every call is that of a one-process world.
+#include <nacre/par/comm.hpp>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#ifdef NACRE_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace nacre::par {
+
+namespace {
+#ifdef NACRE_HAVE_MPI
+bool mpi_up() {
+  int init = 0, fin = 0;
+  MPI_Initialized(&init);
+  MPI_Finalized(&fin);
+  return init && !fin;
+}
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("nacre::par: ") + what + " failed (MPI error " +
+                                                  std::to_string(rc) + ")");
+}
+#endif
+}  // namespace
+
+bool has_mpi() {
+#ifdef NACRE_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+Environment::Environment([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
+#ifdef NACRE_HAVE_MPI
+  int init = 0;
+  MPI_Initialized(&init);
+  if (!init) {
+    int provided = 0;
+    check(MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    owns_ = true;
+  }
+#endif
+}
+
+Environment::~Environment() {
+#ifdef NACRE_HAVE_MPI
+  if (owns_ && mpi_up()) MPI_Finalize();
+#endif
+}
+
+Comm Comm::world() {
+  Comm c;
+#ifdef NACRE_HAVE_MPI
+  if (mpi_up()) {
+    MPI_Comm_rank(MPI_COMM_WORLD, &c.rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &c.size_);
+  }
+#endif
+  return c;
+}
+
+double Comm::max(double x) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce(max)");
+#endif
+  return x;
+}
+
+long long Comm::sum(long long x) const {
+  sum(&x, 1);
+  return x;
+}
+
+void Comm::sum([[maybe_unused]] long long* x, [[maybe_unused]] int n) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce(sum)");
+#endif
+}
+
+void Comm::sum_exact([[maybe_unused]] double* x, [[maybe_unused]] int n) const {
+#ifdef NACRE_HAVE_MPI
+  // exact in any order (the caller's promise), so MPI's reduction tree cannot change the bits
+  if (size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, x, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce(sum)");
+#endif
+}
+
+void Comm::exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
+                    std::vector<std::vector<double>>& recv) const {
+  if (ranks.size() != send.size() || ranks.size() != recv.size())
+    throw std::logic_error("nacre::par::Comm::exchange: one send and one receive buffer per neighbour");
+#ifdef NACRE_HAVE_MPI
+  if (ranks.empty()) return;
+  std::vector<MPI_Request> req(2 * ranks.size());
+  constexpr int kTag = 17;
+  for (std::size_t k = 0; k < ranks.size(); ++k)
+    check(MPI_Irecv(recv[k].data(), static_cast<int>(recv[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
+                    &req[k]),
+          "MPI_Irecv");
+  for (std::size_t k = 0; k < ranks.size(); ++k)
+    check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
+                    &req[ranks.size() + k]),
+          "MPI_Isend");
+  check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+#else
+  if (!ranks.empty()) throw std::logic_error("nacre::par::Comm::exchange: neighbours in a one-process build");
+#endif
+}
+
+namespace {
+template <class T>
+std::vector<std::vector<T>> gather_impl([[maybe_unused]] const Comm& c, const std::vector<T>& mine) {
+  std::vector<std::vector<T>> all;
+#ifdef NACRE_HAVE_MPI
+  if (c.size() > 1) {
+    const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_LONG_LONG;
+    int n = static_cast<int>(mine.size());
+    std::vector<int> counts(c.size()), displs(c.size());
+    check(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Gather");
+    std::vector<T> flat;
+    if (c.rank() == 0) {
+      for (int r = 1; r < c.size(); ++r) displs[r] = displs[r - 1] + counts[r - 1];
+      flat.resize(static_cast<std::size_t>(displs.back()) + counts.back());
+    }
+    check(MPI_Gatherv(mine.data(), n, type, flat.data(), counts.data(), displs.data(), type, 0, MPI_COMM_WORLD),
+          "MPI_Gatherv");
+    if (c.rank() == 0)
+      for (int r = 0; r < c.size(); ++r) all.emplace_back(flat.begin() + displs[r], flat.begin() + displs[r] + counts[r]);
+    return all;
+  }
+#endif
+  all.push_back(mine);
+  return all;
+}
+}  // namespace
+
+std::vector<std::vector<double>> Comm::gather(const std::vector<double>& mine) const { return gather_impl(*this, mine); }
+std::vector<std::vector<long long>> Comm::gather(const std::vector<long long>& mine) const {
+  return gather_impl(*this, mine);
+}
+
+void Comm::barrier() const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+void Reduce::combine(sum::Scan& s, long long& n) const {
+  long long c[4] = {owned, s.pos_inf, s.neg_inf, s.nan};
+  comm->sum(c, 4);
+  n = c[0], s.pos_inf = c[1], s.neg_inf = c[2], s.nan = c[3];
+  s.amax = comm->max(s.amax);
+}
+
+void Reduce::combine(sum::Levels& l) const { comm->sum_exact(l.s, sum::kFolds); }
+
+void process_grid(int size, double width, double height, int dims[2]) {
+  // the factor pair of `size` closest to the specimen's aspect ratio (MPI_Dims_create's balanced
+  // pair is the special case of a square specimen), the larger factor along the longer side
+  int best = 1;
+  double best_err = 1e300;
+  const double aspect = width > 0 && height > 0 ? width / height : 1.0;
+  for (int a = 1; a <= size; ++a) {
+    if (size % a) continue;
+    const double cell = (static_cast<double>(a) * a) / size;  // (a / (size / a)): columns over rows
+    const double err = std::abs(std::log(cell / aspect));
+    if (err < best_err - 1e-12) best_err = err, best = a;
+  }
+  dims[0] = best, dims[1] = size / best;
+}
+
+}  // namespace nacre::par

@@ -1,0 +1,296 @@
+// The 2-D decomposition and the Monte Carlo halo exchange (include/nacre/par/): a colour-swept
+// cycle on several ranks must leave the bits of one process. Checked twice: P ranks emulated in
+// this process (messages handed over in memory: every build, every P), and the MPI ranks this
+// test runs on (mpiexec -np 1, 2, 4 in CTest when built with NACRE_ENABLE_MPI).
+#include "../wall_specimen.hpp"
+
+#include <nacre/core/deterministic_sum.hpp>
+#include <nacre/loading/pattern.hpp>
+#include <nacre/mc/colouring.hpp>
+#include <nacre/mc/kernels.hpp>
+#include <nacre/mc/model.hpp>
+#include <nacre/par/comm.hpp>
+#include <nacre/par/decomposition.hpp>
+#include <nacre/par/halo.hpp>
+
+#include <catch2/catch_test_macros.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace nacre;
+
+namespace {
+
+using MS = MemSpace;
+using Model = mc::Model<MS>;
+constexpr std::uint64_t kSeed = 2017;
+constexpr double kLoad = 0.012, kStep = 2e-4, kRotStep = 1e-4, kTemperature = 1e-7;
+
+deck::Deck par_deck(double angle) {
+  deck::Deck d;
+  d.geometry.width = 30, d.geometry.height = 12;
+  d.geometry.brick_width = 3.5, d.geometry.brick_height = 1.0;
+  d.geometry.notch_length = 10, d.geometry.notch_y = 6;
+  d.geometry.angle_deg = angle;
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  d.load.tension = 1.0, d.load.bending = 0.5;
+  return d;
+}
+
+/// What a run leaves, in the specimen's numbering: 5 pose words per brick, the cached energy per
+/// interface, and the accepted trials of each colour sweep (summed over ranks).
+struct State {
+  std::vector<double> pose, energy;
+  std::vector<long long> accepted;
+};
+
+struct Rank {
+  par::Decomposition d;
+  Model m;
+  std::unique_ptr<par::PoseHalo<MS>> halo;
+  Field<double, MS> cache, de;
+};
+
+Rank make_rank(const test::Wall& w, const deck::Deck& dk, const mc::Colouring& global, int rank, int size) {
+  Rank r;
+  r.d = par::decompose(rank, size, w.s, w.f, w.adj, global.tile);
+  const auto ls = par::local_specimen(r.d, w.s);
+  const auto lf = par::local_interfaces(r.d, w.f);
+  const auto ladj = geometry::build_adjacency(ls.size(), lf);
+  r.m = mc::build_model(ExecSpace{}, ls, lf, ladj, par::local_colouring(r.d, global), dk.mortar, 4);
+  r.halo = std::make_unique<par::PoseHalo<MS>>(ExecSpace{}, r.d, global, r.m);
+  r.cache = Field<double, MS>("nacre::test::par_cache", std::max(r.m.n_interfaces, 1));
+  r.de = Field<double, MS>("nacre::test::par_de", std::max(r.m.n_free, 1));
+  return r;
+}
+
+void start(const deck::Deck& dk, const Model& m) {
+  mc::apply_load(ExecSpace{}, m, loading::Pattern{dk.load.tension, dk.load.bending, dk.geometry.width}, kLoad);
+}
+
+long sweep(const Model& m, int c, long cycle, Field<double, MS> cache, Field<double, MS> de) {
+  return mc::sweep_colour(ExecSpace{}, m, m.colour_tiles[c], m.colour_tiles[c + 1],
+                          mc::PhiloxUniforms<MS>{m.id, kSeed, static_cast<std::uint64_t>(cycle)}, cache, de, kStep,
+                          kRotStep, kTemperature);
+}
+
+/// The owned part of a rank's (or the whole) model in the specimen's numbering: bricks
+/// `global_brick[k]` for local bricks k < n_owned, interfaces where `owned_iface`.
+void collect(const Model& m, Field<double, MS> cache, const std::vector<int>& global_brick, int n_owned,
+             const std::vector<int>& global_iface, const std::vector<char>& owned_iface, State& out) {
+  auto p = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.pose);
+  auto c = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), cache);
+  for (int k = 0; k < m.n_bricks; ++k) {
+    const int local = m.perm[k];
+    if (local >= n_owned) continue;
+    for (int w = 0; w < par::kPoseWords; ++w) out.pose[5 * global_brick[local] + w] = p(k, w);
+  }
+  for (int i = 0; i < m.n_interfaces; ++i) {
+    const int local = m.iface_perm[i];
+    if (owned_iface[local]) out.energy[global_iface[local]] = c(i);
+  }
+}
+
+State blank(const test::Wall& w) {
+  State s;
+  s.pose.assign(5 * w.s.size(), std::nan(""));
+  s.energy.assign(w.f.size(), std::nan(""));
+  return s;
+}
+
+/// One process: the reference.
+State one_process(const test::Wall& w, const deck::Deck& dk, const mc::Colouring& col, int cycles) {
+  Model m = mc::build_model(ExecSpace{}, w.s, w.f, w.adj, col, dk.mortar, 4);
+  Field<double, MS> cache("nacre::test::cache", m.n_interfaces), de("nacre::test::de", m.n_free);
+  start(dk, m);
+  mc::interface_energies(ExecSpace{}, m, cache);
+  State s = blank(w);
+  for (int cyc = 0; cyc < cycles; ++cyc)
+    for (int c = 0; c < col.n_colours; ++c) s.accepted.push_back(sweep(m, c, cyc, cache, de));
+  std::vector<int> all_b(w.s.size()), all_i(w.f.size());
+  std::iota(all_b.begin(), all_b.end(), 0), std::iota(all_i.begin(), all_i.end(), 0);
+  collect(m, cache, all_b, static_cast<int>(w.s.size()), all_i, std::vector<char>(w.f.size(), 1), s);
+  return s;
+}
+
+/// P ranks in this process: after each colour every rank's message to q is handed to q.
+State emulated(const test::Wall& w, const deck::Deck& dk, const mc::Colouring& col, int P, int cycles) {
+  std::vector<Rank> ranks;
+  for (int r = 0; r < P; ++r) ranks.push_back(make_rank(w, dk, col, r, P));
+  auto deliver = [&](int colour, bool refresh) {
+    std::vector<std::vector<std::vector<double>>> out(P), in(P);
+    for (int r = 0; r < P; ++r) out[r] = ranks[r].halo->pack(ExecSpace{}, ranks[r].m, colour);
+    for (int r = 0; r < P; ++r) {
+      in[r] = ranks[r].halo->receive_buffers(colour);
+      const auto& nb = ranks[r].halo->neighbours();
+      for (std::size_t k = 0; k < nb.size(); ++k) {
+        const auto& qnb = ranks[nb[k]].halo->neighbours();
+        const auto back = std::find(qnb.begin(), qnb.end(), r) - qnb.begin();
+        REQUIRE(back < static_cast<long>(qnb.size()));
+        REQUIRE(out[nb[k]][back].size() == in[r][k].size());
+        in[r][k] = out[nb[k]][back];
+      }
+    }
+    for (int r = 0; r < P; ++r)
+      ranks[r].halo->unpack(ExecSpace{}, ranks[r].m, colour, in[r], refresh ? ranks[r].cache : Field<double, MS>{});
+  };
+  for (auto& r : ranks) start(dk, r.m);
+  deliver(-1, false);
+  for (auto& r : ranks) mc::interface_energies(ExecSpace{}, r.m, r.cache);
+  State s = blank(w);
+  for (int cyc = 0; cyc < cycles; ++cyc)
+    for (int c = 0; c < col.n_colours; ++c) {
+      long long acc = 0;
+      for (auto& r : ranks) acc += sweep(r.m, c, cyc, r.cache, r.de);
+      deliver(c, true);
+      s.accepted.push_back(acc);
+    }
+  for (auto& r : ranks) collect(r.m, r.cache, r.d.bricks, r.d.n_owned, r.d.interfaces, r.d.iface_owned, s);
+  return s;
+}
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+mc::Colouring colouring(const test::Wall& w, const std::string& name) {
+  return mc::colour_graph(name, w.s, w.adj, w.free, 1);
+}
+
+}  // namespace
+
+TEST_CASE("decomposition: every brick and interface owned once, halos and messages consistent", "[par]") {
+  for (const double angle : {0.0, 30.0}) {
+    const auto dk = par_deck(angle);
+    const auto w = test::wall_of(dk.geometry);
+    for (const std::string name : {"natural", "tiles"}) {
+      const auto col = colouring(w, name);
+      for (int P : {1, 2, 3, 4, 6}) {
+        CAPTURE(angle, name, P);
+        std::vector<par::Decomposition> ds;
+        for (int r = 0; r < P; ++r) ds.push_back(par::decompose(r, P, w.s, w.f, w.adj, col.tile));
+        CHECK(ds[0].dims[0] * ds[0].dims[1] == P);
+        std::vector<int> owned(w.s.size(), 0), iowned(w.f.size(), 0);
+        for (const auto& d : ds) {
+          for (int k = 0; k < d.n_owned; ++k) {
+            ++owned[d.bricks[k]];
+            CHECK(d.owner[d.bricks[k]] == d.rank);
+          }
+          // the halo is exactly the other ranks' neighbours of owned bricks
+          std::set<int> halo;
+          for (int k = 0; k < d.n_owned; ++k)
+            for (int j = w.adj.offset[d.bricks[k]]; j < w.adj.offset[d.bricks[k] + 1]; ++j)
+              if (d.owner[w.adj.neighbour[j]] != d.rank) halo.insert(w.adj.neighbour[j]);
+          CHECK(std::vector<int>(d.bricks.begin() + d.n_owned, d.bricks.end()) ==
+                std::vector<int>(halo.begin(), halo.end()));
+          for (std::size_t i = 0; i < d.interfaces.size(); ++i) iowned[d.interfaces[i]] += d.iface_owned[i];
+          // what r sends q is what q receives from r, brick for brick
+          for (std::size_t k = 0; k < d.neighbours.size(); ++k) {
+            const auto& e = ds[d.neighbours[k]];
+            const auto back = std::find(e.neighbours.begin(), e.neighbours.end(), d.rank) - e.neighbours.begin();
+            REQUIRE(back < static_cast<long>(e.neighbours.size()));
+            std::vector<int> sent, got;
+            for (int b : d.send[k]) sent.push_back(d.bricks[b]);
+            for (int b : e.recv[back]) got.push_back(e.bricks[b]);
+            CHECK(sent == got);
+          }
+        }
+        CHECK(std::all_of(owned.begin(), owned.end(), [](int n) { return n == 1; }));
+        CHECK(std::all_of(iowned.begin(), iowned.end(), [](int n) { return n == 1; }));
+        // a tile is swept in order by one thread: never split between ranks
+        for (std::size_t i = 0; i < w.s.size(); ++i)
+          for (std::size_t k = 0; k < w.s.size() && col.tile[i] >= 0; ++k)
+            if (col.tile[k] == col.tile[i]) CHECK(ds[0].owner[k] == ds[0].owner[i]);
+      }
+    }
+  }
+}
+
+TEST_CASE("Monte Carlo colour sweeps on P emulated ranks leave the bits of one process", "[par][mc]") {
+  for (const double angle : {0.0, 30.0}) {
+    const auto dk = par_deck(angle);
+    const auto w = test::wall_of(dk.geometry);
+    for (const std::string name : {"natural", "tiles"}) {
+      const auto col = colouring(w, name);
+      const State ref = one_process(w, dk, col, 6);
+      long long moved = 0;
+      for (auto a : ref.accepted) moved += a;
+      CHECK(moved > 0);  // the sweeps did something
+      for (int P : {1, 2, 3, 4}) {
+        CAPTURE(angle, name, P);
+        const State got = emulated(w, dk, col, P, 6);
+        CHECK(same_bits(got.pose, ref.pose));
+        CHECK(same_bits(got.energy, ref.energy));
+        CHECK(got.accepted == ref.accepted);
+      }
+    }
+  }
+}
+
+TEST_CASE("Monte Carlo colour sweeps on the MPI ranks of this run leave the bits of one process", "[par][mc][mpi]") {
+  const par::Comm comm = par::Comm::world();
+  for (const double angle : {0.0, 30.0}) {
+    const auto dk = par_deck(angle);
+    const auto w = test::wall_of(dk.geometry);
+    const auto col = colouring(w, "natural");
+    const State ref = one_process(w, dk, col, 6);
+    Rank r = make_rank(w, dk, col, comm.rank(), comm.size());
+    start(dk, r.m);
+    r.halo->exchange(ExecSpace{}, comm, r.m, -1);
+    mc::interface_energies(ExecSpace{}, r.m, r.cache);
+    std::vector<long long> accepted;
+    for (int cyc = 0; cyc < 6; ++cyc)
+      for (int c = 0; c < col.n_colours; ++c) {
+        accepted.push_back(comm.sum(static_cast<long long>(sweep(r.m, c, cyc, r.cache, r.de))));
+        r.halo->exchange(ExecSpace{}, comm, r.m, c, r.cache);
+      }
+    CAPTURE(angle, comm.rank(), comm.size());
+    CHECK(accepted == ref.accepted);
+    // the total energy summed over ranks (each its owned interfaces) has the one-process bits
+    SumWorkspace<MS> ws;
+    Model whole = mc::build_model(ExecSpace{}, w.s, w.f, w.adj, col, dk.mortar, 4);
+    {
+      auto h = Kokkos::create_mirror_view(whole.pose);
+      for (int k = 0; k < whole.n_bricks; ++k)
+        for (int q = 0; q < 5; ++q) h(k, q) = ref.pose[5 * whole.perm[k] + q];
+      Kokkos::deep_copy(whole.pose, h);
+    }
+    const double e_ref = mc::total_energy(ExecSpace{}, whole, ws);
+    Kokkos::View<char*, MS> owned("nacre::test::owned", std::max(r.m.n_interfaces, 1));
+    {
+      auto h = Kokkos::create_mirror_view(owned);
+      for (int i = 0; i < r.m.n_interfaces; ++i) h(i) = r.d.iface_owned[r.m.iface_perm[i]];
+      Kokkos::deep_copy(owned, h);
+    }
+    const mc::InterfaceEvaluator<MS> ev(r.m);
+    const double e = deterministic_sum(ExecSpace{}, "nacre::test::par_energy", ws, 0, r.m.n_interfaces,
+                                       KOKKOS_LAMBDA(const int i) { return owned(i) ? ev.energy(i) : 0.0; },
+                                       par::Reduce{&comm, r.d.owned_interfaces});
+    CHECK(std::memcmp(&e, &e_ref, sizeof e) == 0);
+    // every rank's poses, gathered on rank 0, are the one-process poses
+    State mine = blank(w);
+    collect(r.m, r.cache, r.d.bricks, r.d.n_owned, r.d.interfaces, r.d.iface_owned, mine);
+    std::vector<double> owned_poses;
+    for (int k = 0; k < r.d.n_owned; ++k)
+      for (int q = 0; q < 5; ++q) owned_poses.push_back(mine.pose[5 * r.d.bricks[k] + q]);
+    const auto all = comm.gather(owned_poses);
+    if (comm.rank() == 0) {
+      std::vector<double> pose(5 * w.s.size(), std::nan(""));
+      for (int q = 0; q < comm.size(); ++q) {
+        const auto d = par::decompose(q, comm.size(), w.s, w.f, w.adj, col.tile);
+        REQUIRE(all[q].size() == 5u * d.n_owned);
+        for (int k = 0; k < d.n_owned; ++k)
+          std::copy(all[q].begin() + 5 * k, all[q].begin() + 5 * k + 5, pose.begin() + 5 * d.bricks[k]);
+      }
+      CHECK(same_bits(pose, ref.pose));
+    }
+  }
+}
