@@ -16,7 +16,7 @@
 #include <nacre/mc/model.hpp>
 #include <nacre/par/comm.hpp>
 #include <nacre/par/decomposition.hpp>
-#include <nacre/par/halo.hpp>
+#include <nacre/mc/halo.hpp>
 
 #include "specimen_size.hpp"
 
@@ -133,7 +133,7 @@ int main(int argc, char* argv[]) {
       }
       std::ostringstream row;
       row << P << ',' << w.s.size() << ',' << w.col.n_colours << ',' << min_owned << ',' << max_owned << ','
-          << max_halo << ',' << max_nb << ',' << max_halo * par::kPoseWords * 8;
+          << max_halo << ',' << max_nb << ',' << max_halo * mc::kPoseWords * 8;
       append(csv, "ranks,bricks,colours,min_owned,max_owned,max_halo_bricks,max_neighbours,max_bytes_per_cycle",
              row.str());
       std::cout << row.str() << std::endl;
@@ -148,8 +148,8 @@ int main(int argc, char* argv[]) {
   const auto ls = par::local_specimen(dd, w.s);
   const auto lf = par::local_interfaces(dd, w.f);
   mc::Model<MS> m = mc::build_model(ExecSpace{}, ls, lf, geometry::build_adjacency(ls.size(), lf),
-                                    par::local_colouring(dd, w.col), d.mortar, 4);
-  par::PoseHalo<MS> halo(ExecSpace{}, dd, w.col, m);
+                                    mc::local_colouring(dd, w.col), d.mortar, 4);
+  mc::PoseHalo<MS> halo(ExecSpace{}, dd, w.col, m);
   Field<double, MS> cache("nacre::perf::cache", std::max(m.n_interfaces, 1)), de("nacre::perf::de", std::max(m.n_free, 1));
   mc::apply_load(ExecSpace{}, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.004);
   halo.exchange(ExecSpace{}, comm, m, -1);

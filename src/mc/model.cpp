@@ -126,7 +126,7 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
     for (int side = 0; side < 2; ++side) hadj(fill[hends(i, side)]++) = i;
   // Each brick's slots in the geometry's interface order, which is every sum's order per brick
   // (trial energies, brick energies, gradients): it does not depend on the sweep order, so a
-  // rank's model of a part of the specimen (par/halo.hpp) adds in the order of the whole one.
+  // rank's model of a part of the specimen (mc/halo.hpp) adds in the order of the whole one.
   for (int k = 0; k < n; ++k) {
     std::sort(hadj.data() + hoff(k), hadj.data() + hoff(k + 1),
               [&](int x, int y) { return iperm[x] < iperm[y]; });

@@ -57,7 +57,7 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const Solver* o
 
 template <class Exec>
 SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s,
-                         const geometry::Interfaces& f, const Solver* owner, std::ostream* log)
+                         const geometry::Interfaces& f, const Solver* owner, std::ostream* log, const par::Comm& comm)
     : SolverOn(space, d, owner, log) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::setup");
   const auto adj = geometry::build_adjacency(s.size(), f);
@@ -67,9 +67,12 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
   // per-brick natural colouring (one thread per brick) on devices. "fastest" times every
   // candidate (results may then differ between runs; the pick goes to summary.json).
   if (chosen == "auto") chosen = auto_colouring();
+  if (chosen == "fastest" && comm.size() > 1)
+    throw std::invalid_argument("colouring = \"fastest\" picks by timing, which ranks need not agree on: name a "
+                                "colouring (or \"auto\") for a run on " + std::to_string(comm.size()) + " ranks");
   if (chosen == "fastest") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
   const Colouring c = make_colouring(chosen, s, adj, free_flags(s), d.seed);
-  setup(s, f, adj, c);
+  setup(s, f, adj, c, comm);
   if (log_) *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << m_.n_free
                   << " free and " << (m_.n_bricks - m_.n_free) << " driven bricks, " << m_.n_interfaces
                   << " interfaces\n";
@@ -88,15 +91,30 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
 
 template <class Exec>
 void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
-                           const Colouring& c) {
+                           const Colouring& c, const par::Comm& comm) {
   source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
-  m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
+  if (comm.size() > 1) {
+    // what is spread over ranks so far (docs/scaling.md); the rest says so before any work
+    const std::string ranks = " on " + std::to_string(comm.size()) + " ranks";
+    if (cfg_.relax != Relaxation::monte_carlo)
+      throw std::invalid_argument("relaxation = \"" + std::string(cfg_.relax == Relaxation::gradient ? "gradient"
+                                                                      : cfg_.relax == Relaxation::newton ? "newton"
+                                                                                                         : "auto") +
+                                  "\" runs on one rank only: relaxation = \"monte-carlo\" runs" + ranks);
+    if (cfg_.polish != PolishMethod::fire && cfg_.polish != PolishMethod::none)
+      throw std::invalid_argument("polish = \"" + std::string(polish_method_name(cfg_.polish)) + "\" runs on one rank only: \"fire\" or \"none\" run" +
+                                  ranks);
+    dist_ = distribute(space_, comm, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points, m_);
+  } else {
+    m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
+  }
   allocate_work();
   const std::string& pc = cfg_.mc.newton_preconditioner;
   polisher_ = Polisher<Exec>(space_, m_,
                              pc == "cholesky"       ? NewtonPreconditioner::cholesky
                              : pc == "block-jacobi" ? NewtonPreconditioner::block_jacobi
                                                     : NewtonPreconditioner::automatic);
+  polisher_.distribute(dist_.get());
   // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
   // a brick's length is the force an intact bed joint carries at its limit; a moment is that
   // force times the brick length.
@@ -194,7 +212,16 @@ template <class Exec>
 double SolverOn<Exec>::energy() {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
-  const double e = total_energy(space_, m_, sum_ws_);
+  double e = 0;
+  if (dist_) {  // each interface summed by its owner
+    const InterfaceEvaluator<MemSpace> ev(m_);
+    auto own = dist_->iface_owned;
+    e = deterministic_sum(
+        space_, "nacre::mc::total_energy", sum_ws_, 0, m_.n_interfaces,
+        KOKKOS_LAMBDA(const int i) { return own(i) ? ev.energy(i) : 0.0; }, over(dist_->d.owned_interfaces));
+  } else {
+    e = total_energy(space_, m_, sum_ws_);
+  }
   times_.energy += timer.seconds();
   return e;
 }
@@ -215,7 +242,19 @@ template <class Exec>
 int SolverOn<Exec>::ruptured() {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
-  const int r = interface_state(space_, m_, Field<double>(), Field<std::int8_t>());
+  int r = 0;
+  if (dist_) {  // each interface counted by its owner
+    Field<std::int8_t> st(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_state"),
+                          m_.n_interfaces);
+    interface_state(space_, m_, Field<double>(), st);
+    auto own = dist_->iface_owned;
+    Kokkos::parallel_reduce(
+        "nacre::mc::count_ruptured", Kokkos::RangePolicy<Exec>(space_, 0, m_.n_interfaces),
+        KOKKOS_LAMBDA(const int i, int& acc) { acc += own(i) && st(i) == 2; }, r);
+    r = static_cast<int>(dist_->comm.sum(static_cast<long long>(r)));
+  } else {
+    r = interface_state(space_, m_, Field<double>(), Field<std::int8_t>());
+  }
   times_.energy += timer.seconds();
   return r;
 }
@@ -233,11 +272,16 @@ std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* e
   if (energy && m_.hist.data()) interface_dissipation(space_, m_, en);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), en);
-  std::vector<std::int8_t> out(static_cast<std::size_t>(m_.n_interfaces));
+  std::vector<double> recs;  // (interface, state, energy) of each owned interface
+  for (int i = 0; i < m_.n_interfaces; ++i)
+    if (owned_interface(i))
+      recs.insert(recs.end(), {static_cast<double>(global_interface(i)), static_cast<double>(h(i)), energy ? he(i) : 0.0});
+  const std::vector<double> all = assemble(n_interfaces_global(), 2, recs);  // back to the geometry's order
+  std::vector<std::int8_t> out(n_interfaces_global());
   if (energy) energy->assign(out.size(), 0.0);
-  for (int i = 0; i < m_.n_interfaces; ++i) {  // back to the geometry's order
-    out[m_.iface_perm[i]] = h(i);
-    if (energy) (*energy)[m_.iface_perm[i]] = he(i);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<std::int8_t>(all[2 * i]);
+    if (energy) (*energy)[i] = all[2 * i + 1];
   }
   times_.energy += timer.seconds();
   return out;
@@ -249,8 +293,11 @@ double SolverOn<Exec>::dissipated() {
   Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
                    m_.n_interfaces);
   interface_dissipation(space_, m_, en);
+  auto own = dist_ ? dist_->iface_owned : Kokkos::View<std::uint8_t*, MemSpace>();
   return deterministic_sum(
-      space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces, KOKKOS_LAMBDA(const int i) { return en(i); });
+      space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces,
+      KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : en(i); },
+      over(dist_ ? dist_->d.owned_interfaces : m_.n_interfaces));
 }
 
 template <class Exec>
@@ -293,6 +340,8 @@ PolishResult SolverOn<Exec>::polish(const std::string& method, double tolerance)
 
 template <class Exec>
 PolishResult SolverOn<Exec>::polish_with(PolishMethod method, double tolerance) {
+  if (dist_ && method != PolishMethod::fire && method != PolishMethod::none)
+    one_process_only(polish_method_name(method));
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;
@@ -306,6 +355,7 @@ PolishResult SolverOn<Exec>::polish_with(PolishMethod method, double tolerance) 
 
 template <class Exec>
 PolishResult SolverOn<Exec>::anneal(const PolishOptions& o) {
+  one_process_only("anneal");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_anneal");
   const auto& S = cfg_.mc;
   const long block = S.adapt_interval > 0 ? S.adapt_interval : 50;
@@ -387,23 +437,29 @@ long SolverOn<Exec>::cycle() {
       cache_valid_ = true;
     }
     auto sweep = [&](const auto& uniforms) {
-      for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c)
+      for (std::size_t c = 0; c + 1 < m_.colour_tiles.size(); ++c) {
         accepted += sweep_colour(space_, m_, m_.colour_tiles[c], m_.colour_tiles[c + 1], uniforms, iface_energy_,
                                  de_, step_, rot_step_, T, brick_steps_);
+        // spread over ranks: this colour's moves to the ranks holding them in a halo
+        if (dist_) dist_->halo->exchange(space_, dist_->comm, m_, static_cast<int>(c), iface_energy_);
+      }
     };
     if (philox) sweep(PhiloxUniforms<MemSpace>{m_.id, philox->seed(), global_cycle_});
     else sweep(TableUniforms<MemSpace>{u_});
     auto d = de_;
-    de = deterministic_sum(space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free,
-                           KOKKOS_LAMBDA(const int b) { return d(b); });
+    de = deterministic_sum(
+        space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free, KOKKOS_LAMBDA(const int b) { return d(b); },
+        over(m_.n_free));
+    if (dist_) accepted = dist_->comm.sum(static_cast<long long>(accepted));
   }
   times_.sweep += timer.seconds();
   E_ += de;
   ++global_cycle_;
+  const long trials = dist_ ? static_cast<long>(dist_->n_free) : m_.n_free;
   window_accepted_ += accepted;
-  window_trials_ += m_.n_free;
+  window_trials_ += trials;
   accepted_total_ += accepted;
-  trials_total_ += m_.n_free;
+  trials_total_ += trials;
   const auto& S = cfg_.mc;
   // eq. 2.7, every AdaptInter cycles of the run (the global count, so the rhythm does not
   // restart with each load step), per brick or for the global pair
@@ -570,6 +626,7 @@ void SolverOn<Exec>::predict(double ratio) {
   brick_energy(space_, m_, phi_);
   cache_valid_ = false;
   predict_poses(space_, m_, prev_pose_, phi_, ratio);
+  refresh_halo();
 }
 
 template <class Exec>
@@ -702,12 +759,17 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
     r.ruptured = ruptured();
     r.step_size = step_;
     r.rot_step = rot_step_;
-    if (brick_steps_.active()) {  // per-brick steps: report their mean (host sum, fixed order)
-      auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
-      double st = 0, sr = 0;
-      for (int b = 0; b < m_.n_free; ++b) st += h(b, 0), sr += h(b, 1);
-      r.step_size = m_.n_free ? st / m_.n_free : 0.0;
-      r.rot_step = m_.n_free ? sr / m_.n_free : 0.0;
+    if (brick_steps_.active()) {  // per-brick steps: report their mean (exact sums, over ranks too)
+      auto bs = brick_steps_.step;
+      const double st = deterministic_sum(
+          space_, "nacre::mc::mean_step", sum_ws_, 0, m_.n_free, KOKKOS_LAMBDA(const int b) { return bs(b, 0); },
+          over(m_.n_free));
+      const double sr = deterministic_sum(
+          space_, "nacre::mc::mean_rot_step", sum_ws_, 0, m_.n_free, KOKKOS_LAMBDA(const int b) { return bs(b, 1); },
+          over(m_.n_free));
+      const double n = dist_ ? static_cast<double>(dist_->n_free) : m_.n_free;
+      r.step_size = n > 0 ? st / n : 0.0;
+      r.rot_step = n > 0 ? sr / n : 0.0;
     }
     run_.max_residual = std::max(run_.max_residual, residual_);
     run_.polish_iterations += step_polish_;
@@ -718,24 +780,33 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
 }
 
 namespace {
+/// v(k) = in[global(k)] (x, y, theta) for every local brick k
 template <class PV>
-std::vector<double> to_original_order(const PV& v, const std::vector<int>& perm) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
-  std::vector<double> out(3 * perm.size());  // x, y, theta (the cached rotation is derived)
-  for (std::size_t k = 0; k < perm.size(); ++k)
-    for (int c = 0; c < 3; ++c) out[3 * perm[k] + c] = h(k, c);
-  return out;
-}
-template <class PV>
-void from_original_order(const std::vector<double>& in, const std::vector<int>& perm, const PV& v) {
-  if (in.size() != 3 * perm.size()) throw std::runtime_error("checkpoint does not match the specimen");
+void from_global_order(const std::vector<double>& in, const std::vector<int>& global, const PV& v) {
   auto h = Kokkos::create_mirror_view(v);
   Kokkos::deep_copy(h, 0.0);
-  for (std::size_t k = 0; k < perm.size(); ++k)
-    for (int c = 0; c < 3; ++c) h(k, c) = in[3 * perm[k] + c];
+  for (std::size_t k = 0; k < global.size(); ++k)
+    for (int c = 0; c < 3; ++c) h(k, c) = in[3 * global[k] + c];
   Kokkos::deep_copy(v, h);  // the caller refreshes the cached rotation
 }
 }  // namespace
+
+template <class Exec>
+std::vector<double> SolverOn<Exec>::assemble(std::size_t n, int width, const std::vector<double>& mine) const {
+  std::vector<double> out(n * static_cast<std::size_t>(width), 0.0);
+  const auto place = [&](const std::vector<double>& recs) {
+    for (std::size_t r = 0; r + width < recs.size(); r += static_cast<std::size_t>(width) + 1) {
+      const auto i = static_cast<std::size_t>(recs[r]);
+      for (int c = 0; c < width; ++c) out[i * width + c] = recs[r + 1 + c];
+    }
+  };
+  if (!dist_) {
+    place(mine);
+    return out;
+  }
+  for (const auto& recs : dist_->comm.allgather(mine)) place(recs);
+  return out;
+}
 
 template <class Exec>
 Checkpoint SolverOn<Exec>::checkpoint() const {
@@ -751,23 +822,38 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
   c.trials_total = trials_total_;
   c.window_accepted = window_accepted_;
   c.window_trials = window_trials_;
-  c.pose = to_original_order(m_.pose, m_.perm);
+  // every array in the specimen's order, from each brick's / interface's owner (all here in one
+  // process): the same checkpoint on any rank count, so a run restarts on any other
+  const std::size_t nb = n_bricks_global(), ni = n_interfaces_global();
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
+  auto hq = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_pose_);
+  std::vector<double> pose, prev;
+  for (int k = 0; k < m_.n_bricks; ++k) {
+    if (!owned_brick(k)) continue;
+    const double g = static_cast<double>(global_brick(k));
+    pose.insert(pose.end(), {g, hp(k, 0), hp(k, 1), hp(k, 2)});
+    prev.insert(prev.end(), {g, hq(k, 0), hq(k, 1), hq(k, 2)});
+  }
+  c.pose = assemble(nb, 3, pose);
+  c.previous_pose = assemble(nb, 3, prev);
   if (brick_steps_.active()) {
     auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
     auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.accepted);
-    c.brick_step.assign(3 * m_.perm.size(), 0.0);
-    for (int k = 0; k < m_.n_free; ++k) {
-      const int i = m_.perm[k];
-      c.brick_step[3 * i] = hs(k, 0), c.brick_step[3 * i + 1] = hs(k, 1), c.brick_step[3 * i + 2] = ha(k);
-    }
+    std::vector<double> st;
+    for (int k = 0; k < m_.n_free; ++k)  // a rank's free bricks are its own
+      st.insert(st.end(), {static_cast<double>(global_brick(k)), hs(k, 0), hs(k, 1), static_cast<double>(ha(k))});
+    c.brick_step = assemble(nb, 3, st);
   }
-  c.previous_pose = to_original_order(prev_pose_, m_.perm);
   if (m_.hist.data()) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.hist);
     const int nq = m_.quad.n;
-    c.history.assign(static_cast<std::size_t>(m_.n_interfaces) * nq, 0.0);
-    for (int i = 0; i < m_.n_interfaces; ++i)
-      for (int q = 0; q < nq; ++q) c.history[static_cast<std::size_t>(m_.iface_perm[i]) * nq + q] = h(i, q);
+    std::vector<double> hist;
+    for (int i = 0; i < m_.n_interfaces; ++i) {
+      if (!owned_interface(i)) continue;
+      hist.push_back(static_cast<double>(global_interface(i)));
+      for (int q = 0; q < nq; ++q) hist.push_back(h(i, q));
+    }
+    c.history = assemble(ni, nq, hist);
   }
   return c;
 }
@@ -777,18 +863,24 @@ void SolverOn<Exec>::restore(const Checkpoint& c) {
   if (c.colouring != m_.colouring_name)
     throw std::runtime_error("checkpoint was made with colouring '" + c.colouring + "', solver uses '" +
                              m_.colouring_name + "'");
-  from_original_order(c.pose, m_.perm, m_.pose);
+  // every local brick and interface (a rank's halo too) from the specimen-wide arrays
+  const std::size_t nb = n_bricks_global(), ni = n_interfaces_global();
+  std::vector<int> gperm(m_.perm.size());
+  for (int k = 0; k < m_.n_bricks; ++k) gperm[k] = global_brick(k);
+  if (c.pose.size() != 3 * nb || c.previous_pose.size() != 3 * nb)
+    throw std::runtime_error("checkpoint does not match the specimen");
+  from_global_order(c.pose, gperm, m_.pose);
   cache_valid_ = false;
-  from_original_order(c.previous_pose, m_.perm, prev_pose_);
+  from_global_order(c.previous_pose, gperm, prev_pose_);
   refresh_frames(space_, m_);
   if (brick_steps_.active() != !c.brick_step.empty())
     throw std::runtime_error("checkpoint and deck disagree on step_mode");
   if (brick_steps_.active()) {
-    if (c.brick_step.size() != 3 * m_.perm.size()) throw std::runtime_error("checkpoint does not match the specimen");
+    if (c.brick_step.size() != 3 * nb) throw std::runtime_error("checkpoint does not match the specimen");
     auto hs = Kokkos::create_mirror_view(brick_steps_.step);
     auto ha = Kokkos::create_mirror_view(brick_steps_.accepted);
     for (int k = 0; k < m_.n_free; ++k) {
-      const int i = m_.perm[k];
+      const int i = gperm[k];
       hs(k, 0) = c.brick_step[3 * i], hs(k, 1) = c.brick_step[3 * i + 1];
       ha(k) = static_cast<int>(c.brick_step[3 * i + 2]);
     }
@@ -797,12 +889,12 @@ void SolverOn<Exec>::restore(const Checkpoint& c) {
   }
   if (m_.hist.data() != nullptr) {
     const int nq = m_.quad.n;
-    if (c.history.size() != static_cast<std::size_t>(m_.n_interfaces) * nq)
+    if (c.history.size() != ni * nq)
       throw std::runtime_error(c.history.empty() ? "checkpoint has no damage history, the deck's damage is irreversible"
                                                  : "checkpoint's damage history does not match the specimen");
     auto h = Kokkos::create_mirror_view(m_.hist);
     for (int i = 0; i < m_.n_interfaces; ++i)
-      for (int q = 0; q < nq; ++q) h(i, q) = c.history[static_cast<std::size_t>(m_.iface_perm[i]) * nq + q];
+      for (int q = 0; q < nq; ++q) h(i, q) = c.history[static_cast<std::size_t>(global_interface(i)) * nq + q];
     Kokkos::deep_copy(space_, m_.hist, h);
   } else if (!c.history.empty()) {
     throw std::runtime_error("checkpoint has a damage history, the deck's damage is reversible");
@@ -822,18 +914,39 @@ void SolverOn<Exec>::restore(const Checkpoint& c) {
 
 template <class Exec>
 void SolverOn<Exec>::poses(std::vector<double>& x, std::vector<double>& y, std::vector<double>& t) const {
-  const std::vector<double> p = to_original_order(m_.pose, m_.perm);
-  x.resize(m_.n_bricks), y.resize(m_.n_bricks), t.resize(m_.n_bricks);
-  for (int i = 0; i < m_.n_bricks; ++i) x[i] = p[3 * i], y[i] = p[3 * i + 1], t[i] = p[3 * i + 2];
+  const std::vector<double> p = checkpoint_poses();
+  const std::size_t n = p.size() / 3;
+  x.resize(n), y.resize(n), t.resize(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = p[3 * i], y[i] = p[3 * i + 1], t[i] = p[3 * i + 2];
+}
+
+template <class Exec>
+std::vector<double> SolverOn<Exec>::checkpoint_poses() const {
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
+  std::vector<double> pose;
+  for (int k = 0; k < m_.n_bricks; ++k)
+    if (owned_brick(k)) pose.insert(pose.end(), {static_cast<double>(global_brick(k)), hp(k, 0), hp(k, 1), hp(k, 2)});
+  return assemble(n_bricks_global(), 3, pose);
+}
+
+template <class Exec>
+void SolverOn<Exec>::one_process_only(const char* what) const {
+  if (dist_)
+    throw std::logic_error(std::string("mc::Solver: ") + what + " is not yet spread over ranks (docs/scaling.md); this "
+                           "run has " + std::to_string(dist_->comm.size()));
 }
 
 // ---- the face: the backend picks the space once; every member forwards to SolverOn<space>
 
 Solver::Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-               std::ostream* log) {
+               std::ostream* log)
+    : Solver(backend, d, s, f, log, par::Comm{}) {}
+
+Solver::Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+               std::ostream* log, const par::Comm& comm) {
   backend.visit([&](const auto& space) {
     using Exec = std::decay_t<decltype(space)>;
-    impl_ = std::make_unique<SolverOn<Exec>>(space, d, s, f, this, log);
+    impl_ = std::make_unique<SolverOn<Exec>>(space, d, s, f, this, log, comm);
   });
 }
 

@@ -6,6 +6,7 @@
 // reductions, the uniform source's batches, the polish, the anneal) launches on `space_` with its
 // own type, so a build with Serial and OpenMP (or CUDA) runs either from one binary and the
 // loops carry no per-launch dispatch. The members mirror Solver's; solver.hpp documents them.
+#include <nacre/mc/halo.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <optional>
@@ -24,7 +25,7 @@ public:
   /// `owner` (may be null: a pre-simulation candidate) is the face whose on_progress and
   /// should_stop hooks the loops call.
   SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
-           const Solver* owner, std::ostream* log);
+           const Solver* owner, std::ostream* log, const par::Comm& comm = {});
 
   [[nodiscard]] const Exec& space() const { return space_; }
   [[nodiscard]] const Model<>& model() const { return m_; }
@@ -72,7 +73,30 @@ private:
                                  const geometry::Interfaces& f, const geometry::Adjacency& adj,
                                  std::vector<std::pair<std::string, double>>& presim, std::ostream* log);
   void setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
-             const Colouring& c);
+             const Colouring& c, const par::Comm& comm = {});
+  /// deterministic_sum's combine for `owned` terms of this rank (every term in one process)
+  [[nodiscard]] par::Reduce over(long long owned) const { return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned}; }
+  /// after a move of every brick (load aside: apply_load leaves the halo alone): the halo's poses
+  void refresh_halo() {
+    if (dist_) dist_->refresh(space_, m_);
+  }
+  /// what is not yet spread over ranks says so
+  void one_process_only(const char* what) const;
+  /// the specimen's numbering of local brick k (sweep order) and model interface i, whether this
+  /// rank owns them, and the specimen's counts (a rank's part, or everything in one process)
+  [[nodiscard]] int global_brick(int k) const { return dist_ ? dist_->d.bricks[m_.perm[k]] : m_.perm[k]; }
+  [[nodiscard]] int global_interface(int i) const {
+    return dist_ ? dist_->d.interfaces[m_.iface_perm[i]] : m_.iface_perm[i];
+  }
+  [[nodiscard]] bool owned_brick(int k) const { return !dist_ || m_.perm[k] < dist_->d.n_owned; }
+  [[nodiscard]] bool owned_interface(int i) const { return !dist_ || dist_->d.iface_owned[m_.iface_perm[i]]; }
+  [[nodiscard]] std::size_t n_bricks_global() const { return dist_ ? dist_->d.owner.size() : m_.perm.size(); }
+  [[nodiscard]] std::size_t n_interfaces_global() const { return dist_ ? dist_->n_interfaces : m_.iface_perm.size(); }
+  /// the array of `width` values per item whose owned items' (index, values...) records `mine`
+  /// holds on each rank: on every rank, in the specimen's order (zeros where no rank has an item)
+  [[nodiscard]] std::vector<double> assemble(std::size_t n, int width, const std::vector<double>& mine) const;
+  /// every brick's (x, y, theta), specimen order
+  [[nodiscard]] std::vector<double> checkpoint_poses() const;
   void allocate_work();
   void predict(double ratio);
   long mc_phase(long budget, bool& window_converged);
@@ -138,6 +162,8 @@ private:
   bool failed_ = false;
   StepRecord failed_step_;
   const Solver* owner_ = nullptr;
+  std::unique_ptr<Distribution<MemSpace>> dist_;  ///< this rank's part of a specimen spread over ranks (null: all here)
+  par::Comm one_;                                 ///< the one-process communicator of the sums when not spread
   std::ostream* log_;
 };
 

@@ -144,6 +144,26 @@ std::vector<std::vector<long long>> Comm::gather(const std::vector<long long>& m
   return gather_impl(*this, mine);
 }
 
+std::vector<std::vector<double>> Comm::allgather(const std::vector<double>& mine) const {
+  std::vector<std::vector<double>> all;
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) {
+    int n = static_cast<int>(mine.size());
+    std::vector<int> counts(size_), displs(size_);
+    check(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+    for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    std::vector<double> flat(static_cast<std::size_t>(displs.back()) + counts.back());
+    check(MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, flat.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                         MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    for (int r = 0; r < size_; ++r) all.emplace_back(flat.begin() + displs[r], flat.begin() + displs[r] + counts[r]);
+    return all;
+  }
+#endif
+  all.push_back(mine);
+  return all;
+}
+
 void Comm::barrier() const {
 #ifdef NACRE_HAVE_MPI
   if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);

@@ -9,9 +9,10 @@
 #include <nacre/mc/colouring.hpp>
 #include <nacre/mc/kernels.hpp>
 #include <nacre/mc/model.hpp>
+#include <nacre/mc/solver.hpp>
 #include <nacre/par/comm.hpp>
 #include <nacre/par/decomposition.hpp>
-#include <nacre/par/halo.hpp>
+#include <nacre/mc/halo.hpp>
 
 #include <catch2/catch_test_macros.hpp>
 
@@ -21,6 +22,7 @@
 #include <memory>
 #include <numeric>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -55,7 +57,7 @@ struct State {
 struct Rank {
   par::Decomposition d;
   Model m;
-  std::unique_ptr<par::PoseHalo<MS>> halo;
+  std::unique_ptr<mc::PoseHalo<MS>> halo;
   Field<double, MS> cache, de;
 };
 
@@ -65,8 +67,8 @@ Rank make_rank(const test::Wall& w, const deck::Deck& dk, const mc::Colouring& g
   const auto ls = par::local_specimen(r.d, w.s);
   const auto lf = par::local_interfaces(r.d, w.f);
   const auto ladj = geometry::build_adjacency(ls.size(), lf);
-  r.m = mc::build_model(ExecSpace{}, ls, lf, ladj, par::local_colouring(r.d, global), dk.mortar, 4);
-  r.halo = std::make_unique<par::PoseHalo<MS>>(ExecSpace{}, r.d, global, r.m);
+  r.m = mc::build_model(ExecSpace{}, ls, lf, ladj, mc::local_colouring(r.d, global), dk.mortar, 4);
+  r.halo = std::make_unique<mc::PoseHalo<MS>>(ExecSpace{}, r.d, global, r.m);
   r.cache = Field<double, MS>("nacre::test::par_cache", std::max(r.m.n_interfaces, 1));
   r.de = Field<double, MS>("nacre::test::par_de", std::max(r.m.n_free, 1));
   return r;
@@ -91,7 +93,7 @@ void collect(const Model& m, Field<double, MS> cache, const std::vector<int>& gl
   for (int k = 0; k < m.n_bricks; ++k) {
     const int local = m.perm[k];
     if (local >= n_owned) continue;
-    for (int w = 0; w < par::kPoseWords; ++w) out.pose[5 * global_brick[local] + w] = p(k, w);
+    for (int w = 0; w < mc::kPoseWords; ++w) out.pose[5 * global_brick[local] + w] = p(k, w);
   }
   for (int i = 0; i < m.n_interfaces; ++i) {
     const int local = m.iface_perm[i];
@@ -293,4 +295,107 @@ TEST_CASE("Monte Carlo colour sweeps on the MPI ranks of this run leave the bits
       CHECK(same_bits(pose, ref.pose));
     }
   }
+}
+
+TEST_CASE("the Monte Carlo solver spread over the MPI ranks of this run follows the one-process load path bit for bit",
+          "[par][mc][mpi][solver]") {
+  const par::Comm comm = par::Comm::world();
+  for (const auto& [angle, colouring] : {std::pair{0.0, "tiles"}, std::pair{30.0, "natural"}}) {
+    deck::Deck dk = par_deck(angle);
+    test::cracking_path(dk);
+    dk.load.final_displacement = 0.016;  // three or four adaptive steps, joints softening
+    dk.solver.relaxation = "monte-carlo";
+    dk.solver.polish = "fire";
+    dk.solver.colouring = colouring;
+    auto s = geometry::build_specimen(dk.geometry);
+    const auto f = geometry::find_interfaces(s, dk.geometry);
+    std::vector<mc::StepRecord> ref, got;
+    mc::Solver one(Backend{}, dk, s, f, nullptr);
+    one.run([&](const mc::StepRecord& r) { ref.push_back(r); });
+    mc::Solver spread(Backend{}, dk, s, f, nullptr, comm);
+    spread.run([&](const mc::StepRecord& r) { got.push_back(r); });
+    CAPTURE(angle, colouring, comm.rank(), comm.size());
+    REQUIRE(ref.size() >= 3);
+    REQUIRE(got.size() == ref.size());
+    const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+      CAPTURE(k);
+      CHECK(ref[k].converged);
+      CHECK(got[k].converged == ref[k].converged);
+      CHECK(got[k].cycles == ref[k].cycles);
+      CHECK(got[k].reverts == ref[k].reverts);
+      CHECK(got[k].polish_iterations == ref[k].polish_iterations);
+      CHECK(got[k].ruptured == ref[k].ruptured);
+      CHECK(same(got[k].displacement, ref[k].displacement));
+      CHECK(same(got[k].energy, ref[k].energy));
+      CHECK(same(got[k].reaction, ref[k].reaction));
+      CHECK(same(got[k].residual, ref[k].residual));
+      CHECK(same(got[k].acceptance, ref[k].acceptance));
+      CHECK(same(got[k].step_size, ref[k].step_size));
+    }
+    std::vector<double> x0, y0, t0, x1, y1, t1;
+    one.poses(x0, y0, t0);
+    spread.poses(x1, y1, t1);
+    CHECK(same_bits(x1, x0));
+    CHECK(same_bits(y1, y0));
+    CHECK(same_bits(t1, t0));
+    // the checkpoint and the interface states of N ranks are those of one process
+    const mc::Checkpoint c0 = one.checkpoint(), c1 = spread.checkpoint();
+    CHECK(same_bits(c1.pose, c0.pose));
+    CHECK(same_bits(c1.previous_pose, c0.previous_pose));
+    CHECK(same_bits(c1.brick_step, c0.brick_step));
+    CHECK(same_bits(c1.history, c0.history));
+    CHECK(c1.global_cycle == c0.global_cycle);
+    CHECK(c1.accepted_total == c0.accepted_total);
+    CHECK(c1.trials_total == c0.trials_total);
+    CHECK(same(c1.step_size, c0.step_size));
+    std::vector<double> e0, e1;
+    CHECK(spread.interface_states(&e1) == one.interface_states(&e0));
+    CHECK(same_bits(e1, e0));
+    if (comm.size() > 1) {  // what is not spread yet says so
+      deck::Deck nd = dk;
+      nd.solver.relaxation = "newton";
+      CHECK_THROWS_AS(mc::Solver(Backend{}, nd, s, f, nullptr, comm), std::invalid_argument);
+    }
+  }
+}
+
+TEST_CASE("a checkpoint of one process restarts on the MPI ranks of this run (and theirs on one process)",
+          "[par][mc][mpi][solver]") {
+  const par::Comm comm = par::Comm::world();
+  deck::Deck dk = par_deck(0.0);
+  test::cracking_path(dk);
+  dk.solver.relaxation = "monte-carlo";
+  dk.solver.colouring = "natural";
+  dk.solver.per_brick_steps = true;
+  dk.mortar.damage = cohesive::Damage::irreversible;  // a damage history to carry over
+  auto s = geometry::build_specimen(dk.geometry);
+  const auto f = geometry::find_interfaces(s, dk.geometry);
+  // a first leg to D = 0.008 on one process, then on to 0.016 from its checkpoint: on one
+  // process and on this run's ranks, the same steps and poses
+  deck::Deck first = dk;
+  first.load.final_displacement = 0.008;
+  mc::Solver start(Backend{}, first, s, f, nullptr);
+  start.run(nullptr);
+  const mc::Checkpoint cp = start.checkpoint();
+  dk.load.final_displacement = 0.016;
+  std::vector<mc::StepRecord> ref, got;
+  mc::Solver one(Backend{}, dk, s, f, nullptr);
+  one.restore(cp);
+  one.run([&](const mc::StepRecord& r) { ref.push_back(r); });
+  mc::Solver spread(Backend{}, dk, s, f, nullptr, comm);
+  spread.restore(cp);
+  spread.run([&](const mc::StepRecord& r) { got.push_back(r); });
+  CAPTURE(comm.rank(), comm.size());
+  REQUIRE(!ref.empty());
+  REQUIRE(got.size() == ref.size());
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    CHECK(got[k].cycles == ref[k].cycles);
+    CHECK(std::memcmp(&got[k].energy, &ref[k].energy, sizeof(double)) == 0);
+  }
+  const mc::Checkpoint a = one.checkpoint(), b = spread.checkpoint();
+  CHECK(same_bits(b.pose, a.pose));
+  CHECK(same_bits(b.history, a.history));
+  CHECK(same_bits(b.brick_step, a.brick_step));
+  CHECK(!a.history.empty());
 }

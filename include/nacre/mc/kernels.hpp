@@ -165,7 +165,7 @@ void interface_dissipation(const ExecutionSpace& space, const Model<MemorySpace>
 }
 
 /// \brief Move the driven bricks to the pose the load pattern gives them at opening D
-/// (loading::rigid_pose; free bricks are untouched).
+/// (loading::rigid_pose; free bricks, a rank's free halo bricks among them, are untouched).
 template <class ExecutionSpace, class MemorySpace>
 void apply_load(const ExecutionSpace& space, const Model<MemorySpace>& m, const loading::Pattern& lp, double D) {
   check_access<ExecutionSpace, MemorySpace>();
@@ -175,6 +175,7 @@ void apply_load(const ExecutionSpace& space, const Model<MemorySpace>& m, const 
   Kokkos::parallel_for(
       "nacre::mc::apply_load", Kokkos::RangePolicy<ExecutionSpace>(space, m.n_free, m.n_bricks),
       KOKKOS_LAMBDA(const int b) {
+        if (drive(b) == 0) return;  // a rank's halo brick that is free (mc/halo.hpp): its owner's pose
         const kinematics::Pose q = loading::rigid_pose(lp, drive(b), cx(b), cy(b), D);
         store_frame(p, b, kinematics::make_frame(q));
       });
@@ -191,7 +192,7 @@ struct BrickSteps {
 };
 
 /// \brief interface_energies (below) for the interfaces list(0 .. n-1) only (an empty list:
-/// interfaces 0 .. n-1): the entries a halo exchange made stale (par/halo.hpp).
+/// interfaces 0 .. n-1): the entries a halo exchange made stale (mc/halo.hpp).
 template <class ExecutionSpace, class MemorySpace>
 void interface_energies(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> cache,
                         Kokkos::View<const int*, MemorySpace> list, int n) {

@@ -16,9 +16,13 @@
 /// interface as differences, see brick_delta) is positive, restoring the poses, zeroing the
 /// velocities and halving dt; Newton halves its step until the brick's energy decreases (bricks
 /// of one colour share no interface, so each brick's decrease is the total's). Every sum is a
-/// deterministic_sum and every max a max: the same bits for any thread count.
+/// deterministic_sum and every max a max: the same bits for any thread count. Spread over ranks
+/// (distribute(); FIRE and the residual only) each rank moves its own free bricks, sums its own
+/// terms and interfaces over the ranks, and takes its halo's poses from their owners after each
+/// move: the bits of one process.
 #include <nacre/core/deterministic_sum.hpp>
 #include <nacre/mc/gradient.hpp>
+#include <nacre/mc/halo.hpp>
 #include <nacre/mc/polish_types.hpp>
 #include <nacre/mc/trust_region.hpp>
 
@@ -50,8 +54,18 @@ public:
   PolishResult fire(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale, const PolishOptions& o);
   PolishResult newton(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
                       const PolishOptions& o);
+  /// \brief Work on a rank's part of a specimen (null: the whole one in this process).
+  void distribute(const Distribution<MemSpace>* d) { dist_ = d; }
 
 private:
+  /// deterministic_sum's combine for `owned` terms of this rank (all of them in one process)
+  [[nodiscard]] par::Reduce over(long long owned) const { return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned}; }
+  /// how many of the model's interfaces this rank sums (all in one process)
+  [[nodiscard]] long long owned_interfaces(const Model<>& m) const {
+    return dist_ ? dist_->d.owned_interfaces : m.n_interfaces;
+  }
+  const Distribution<MemSpace>* dist_ = nullptr;
+  par::Comm one_;
   GradientView<> grad_, vel_;
   Kokkos::View<double* [3], Kokkos::LayoutLeft, MemSpace> save_;
   Field<double> iface_e_, iface_trial_;
@@ -74,7 +88,8 @@ Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m
 template <class ExecutionSpace>
 double Polisher<ExecutionSpace>::residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale) {
   brick_gradient(space, m, grad_);
-  return residual_of(space, grad_, m.n_free, scale);
+  const double r = residual_of(space, grad_, m.n_free, scale);
+  return dist_ ? dist_->comm.max(r) : r;
 }
 
 template <class ExecutionSpace>
@@ -105,6 +120,10 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   const InterfaceEvaluator<MemSpace> ev(m);
   auto grad = grad_, vel = vel_, save = save_;
   auto pose = m.pose;
+  // spread over ranks: interfaces summed by their owner only (an empty view: every one here)
+  const Kokkos::View<const std::uint8_t*, MemSpace> own =
+      dist_ ? Kokkos::View<const std::uint8_t*, MemSpace>(dist_->iface_owned) : Kokkos::View<const std::uint8_t*, MemSpace>();
+  const long long ni_owned = owned_interfaces(m);
   Kokkos::deep_copy(space, vel, 0.0);
   {
     auto e = iface_e_;
@@ -122,7 +141,8 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
     rounding_floor = 4 * DBL_EPSILON *
                      deterministic_sum(
                          space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
-                         KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+                         KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : Kokkos::abs(e(i)); },
+                         over(ni_owned));
   }
   PolishResult r;
   r.residual = residual(space, m, scale);
@@ -132,14 +152,17 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
     const double P = -deterministic_sum(
         space, "nacre::mc::polish::power", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
           return grad(b, 0) * vel(b, 0) + grad(b, 1) * vel(b, 1) + grad(b, 2) * inv_l * vel(b, 2);
-        });
+        },
+        over(nf));
     const double FF = deterministic_sum(
         space, "nacre::mc::polish::force_norm", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
           return grad(b, 0) * grad(b, 0) + grad(b, 1) * grad(b, 1) + grad(b, 2) * grad(b, 2) * inv_l * inv_l;
-        });
+        },
+        over(nf));
     const double VV = deterministic_sum(
         space, "nacre::mc::polish::velocity_norm", ws_, 0, nf,
-        KOKKOS_LAMBDA(const int b) { return vel(b, 0) * vel(b, 0) + vel(b, 1) * vel(b, 1) + vel(b, 2) * vel(b, 2); });
+        KOKKOS_LAMBDA(const int b) { return vel(b, 0) * vel(b, 0) + vel(b, 1) * vel(b, 1) + vel(b, 2) * vel(b, 2); },
+        over(nf));
     const bool downhill = P > 0.0;
     if (downhill) {
       if (++n_pos > n_min) dt = std::min(dt * f_inc, dt_max), alpha *= f_alpha;
@@ -159,14 +182,16 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
                                    pose(b, 2) + h * vel(b, 2) * inv_l};
           store_frame(pose, b, kinematics::make_frame(q));
         });
+    if (dist_) dist_->refresh(space, m);
     // energy test: the change summed as per-interface differences
     auto e = iface_e_, et = iface_trial_;
     const double dE = deterministic_sum(
         space, "nacre::mc::polish::energy_change", ws_, 0, ni, KOKKOS_LAMBDA(const int i) {
           const double v = ev.energy(i);
           et(i) = v;
-          return v - e(i);
-        });
+          return own.data() && !own(i) ? 0.0 : v - e(i);
+        },
+        over(ni_owned));
     if (dE <= rounding_floor) {
       std::swap(iface_e_, iface_trial_);
       r.energy_change += dE;
@@ -178,6 +203,7 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
             store_frame(pose, b, kinematics::make_frame(kinematics::Pose{save(b, 0), save(b, 1), save(b, 2)}));
             vel(b, 0) = vel(b, 1) = vel(b, 2) = 0.0;
           });
+      if (dist_) dist_->refresh(space, m);
       n_pos = 0, dt *= f_dec, alpha = alpha0;
     }
     r.residual = residual(space, m, scale);

@@ -9,6 +9,7 @@
 #include <nacre/mc/kernels.hpp>
 #include <nacre/mc/model.hpp>
 #include <nacre/mc/polish.hpp>
+#include <nacre/par/comm.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
 #include <functional>
@@ -92,6 +93,14 @@ public:
   /// the model. `log` gets one line per decision (may be null).
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log = nullptr);
+  /// \brief Spread over the ranks of `comm` (docs/scaling.md): each rank builds and relaxes its
+  /// part of the specimen (owned bricks and a one-brick halo), every rank calls every member in
+  /// the same order, and every result is the one-process result, bit for bit. Supported so far:
+  /// relaxation = "monte-carlo" with polish "fire" or "none", colourings other than "fastest";
+  /// checkpoint(), restore() and interface_states() are one-process only (std::invalid_argument
+  /// / std::logic_error otherwise). comm.size() == 1: the one-process solver.
+  Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
+         std::ostream* log, const par::Comm& comm);
   /// \brief The same on the default backend.
   Solver(const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f, std::ostream* log = nullptr)
       : Solver(Backend{}, d, s, f, log) {}

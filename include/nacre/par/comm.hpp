@@ -32,6 +32,8 @@ private:
 /// \brief All processes of the run (MPI_COMM_WORLD), or this one alone.
 class Comm {
 public:
+  /// \brief One process (rank 0 of 1): what a solver that is not distributed combines with.
+  Comm() = default;
   /// \brief The world (one process in a build without MPI or before MPI is initialised).
   static Comm world();
 
@@ -54,6 +56,8 @@ public:
   /// \brief Rank 0 receives every rank's `mine` in rank order (others get an empty vector).
   [[nodiscard]] std::vector<std::vector<double>> gather(const std::vector<double>& mine) const;
   [[nodiscard]] std::vector<std::vector<long long>> gather(const std::vector<long long>& mine) const;
+  /// \brief Every rank receives every rank's `mine` in rank order.
+  [[nodiscard]] std::vector<std::vector<double>> allgather(const std::vector<double>& mine) const;
   void barrier() const;
 
 private:

@@ -17,16 +17,18 @@
 #include <nacre/par/comm.hpp>
 #include <nacre/par/decomposition.hpp>
 
+#include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
-namespace nacre::par {
+namespace nacre::mc {
 
 /// \brief The colouring of a rank's local bricks: owned bricks keep the global colour and tile,
 /// halo bricks get colour -1 (not swept here: build_model puts them after the swept bricks).
-[[nodiscard]] mc::Colouring local_colouring(const Decomposition& d, const mc::Colouring& global);
+[[nodiscard]] Colouring local_colouring(const par::Decomposition& d, const Colouring& global);
 
-/// \brief Poses per brick in a halo message (mc::Model::pose's row: x, y, theta, sin, cos - 1).
+/// \brief Poses per brick in a halo message (Model::pose's row: x, y, theta, sin, cos - 1).
 inline constexpr int kPoseWords = 5;
 
 template <class MemorySpace>
@@ -36,23 +38,23 @@ public:
   /// local_interfaces and local_colouring(d, global)), per colour of the global colouring.
   /// Also sets m.id to the global brick index (the RNG stream of one process).
   template <class ExecutionSpace>
-  PoseHalo(const ExecutionSpace& space, const Decomposition& d, const mc::Colouring& global, mc::Model<MemorySpace>& m);
+  PoseHalo(const ExecutionSpace& space, const par::Decomposition& d, const Colouring& global, Model<MemorySpace>& m);
 
   [[nodiscard]] const std::vector<int>& neighbours() const { return neighbours_; }
 
   /// \brief Per neighbour, the poses of the owned bricks of `colour` (-1: every colour) it holds.
   template <class ExecutionSpace>
-  std::vector<std::vector<double>> pack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour) const;
+  std::vector<std::vector<double>> pack(const ExecutionSpace& space, const Model<MemorySpace>& m, int colour) const;
   /// \brief Sizes of the messages `colour` brings from each neighbour.
   [[nodiscard]] std::vector<std::vector<double>> receive_buffers(int colour) const;
   /// \brief Store received poses; then, if cache is allocated, recompute the cached energies of the
   /// interfaces the received bricks touch.
   template <class ExecutionSpace>
-  void unpack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour,
+  void unpack(const ExecutionSpace& space, const Model<MemorySpace>& m, int colour,
               const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const;
   /// \brief pack, Comm::exchange, unpack.
   template <class ExecutionSpace>
-  void exchange(const ExecutionSpace& space, const Comm& comm, const mc::Model<MemorySpace>& m, int colour,
+  void exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m, int colour,
                 Field<double, MemorySpace> cache = {}) const {
     auto recv = receive_buffers(colour);
     comm.exchange(neighbours_, pack(space, m, colour), recv);
@@ -74,10 +76,10 @@ private:
 
 template <class MemorySpace>
 template <class ExecutionSpace>
-PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const Decomposition& d, const mc::Colouring& global,
-                                mc::Model<MemorySpace>& m)
+PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const par::Decomposition& d, const Colouring& global,
+                                Model<MemorySpace>& m)
     : neighbours_(d.neighbours), n_colours_(global.n_colours) {
-  mc::check_access<ExecutionSpace, MemorySpace>();
+  check_access<ExecutionSpace, MemorySpace>();
   const int nl = static_cast<int>(d.bricks.size());
   std::vector<int> sweep_of(nl);
   for (int k = 0; k < nl; ++k) sweep_of[m.perm[k]] = k;
@@ -118,25 +120,25 @@ PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const Decomposition
       l.send_off.push_back(static_cast<int>(send.size())), l.recv_off.push_back(static_cast<int>(recv.size()));
     }
     std::sort(stale.begin(), stale.end());
-    l.send = upload(send, "nacre::par::halo_send"), l.recv = upload(recv, "nacre::par::halo_recv");
-    l.stale = upload(stale, "nacre::par::halo_stale");
+    l.send = upload(send, "nacre::mc::halo_send"), l.recv = upload(recv, "nacre::mc::halo_recv");
+    l.stale = upload(stale, "nacre::mc::halo_stale");
     lists_.push_back(std::move(l));
   }
-  space.fence("nacre::par::PoseHalo");
+  space.fence("nacre::mc::PoseHalo");
 }
 
 template <class MemorySpace>
 template <class ExecutionSpace>
 std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space,
-                                                             const mc::Model<MemorySpace>& m, int colour) const {
+                                                             const Model<MemorySpace>& m, int colour) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.send.extent(0));
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
-      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::par::halo_pack"), n, kPoseWords);
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_pack"), n, kPoseWords);
   auto pose = m.pose;
   auto idx = l.send;
   Kokkos::parallel_for(
-      "nacre::par::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+      "nacre::mc::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
         for (int w = 0; w < kPoseWords; ++w) buf(k, w) = pose(idx(k), w);
       });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), buf);  // fences `space`'s copy
@@ -158,12 +160,12 @@ std::vector<std::vector<double>> PoseHalo<MemorySpace>::receive_buffers(int colo
 
 template <class MemorySpace>
 template <class ExecutionSpace>
-void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const mc::Model<MemorySpace>& m, int colour,
+void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<MemorySpace>& m, int colour,
                                    const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.recv.extent(0));
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
-      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::par::halo_unpack"), n, kPoseWords);
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_unpack"), n, kPoseWords);
   auto h = Kokkos::create_mirror_view(buf);
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
     std::copy(recv[q].begin(), recv[q].end(), h.data() + static_cast<std::size_t>(l.recv_off[q]) * kPoseWords);
@@ -171,13 +173,60 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const mc::Model<
   auto pose = m.pose;
   auto idx = l.recv;
   Kokkos::parallel_for(
-      "nacre::par::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+      "nacre::mc::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
         for (int w = 0; w < kPoseWords; ++w) pose(idx(k), w) = buf(k, w);
       });
   if (cache.data())
-    mc::interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
+    interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
                            static_cast<int>(l.stale.extent(0)));
-  space.fence("nacre::par::unpack");  // buf and h live until here
+  space.fence("nacre::mc::halo_unpack");  // buf and h live until here
+}
+
+/// \brief A Monte Carlo solver's share of a specimen spread over the ranks of `comm` (mc::Solver
+/// with a communicator of more than one rank): what it needs beside its local model.
+template <class MemorySpace>
+struct Distribution {
+  par::Comm comm;
+  par::Decomposition d;
+  std::unique_ptr<PoseHalo<MemorySpace>> halo;
+  Kokkos::View<std::uint8_t*, MemorySpace> iface_owned;  ///< per model interface: 1 where this rank owns it
+  long long n_free = 0;                                  ///< free bricks of the whole specimen
+  std::size_t n_interfaces = 0;                          ///< interfaces of the whole specimen
+
+  /// \brief deterministic_sum's combine for a sum of which this rank holds `owned` terms.
+  [[nodiscard]] par::Reduce reduce(long long owned) const { return par::Reduce{&comm, owned}; }
+  /// \brief Every halo pose from its owner (after any move of all bricks: load, predictor, polish, restore).
+  template <class ExecutionSpace>
+  void refresh(const ExecutionSpace& space, const Model<MemorySpace>& m) const {
+    halo->exchange(space, comm, m, -1);
+  }
+};
+
+/// \brief The distribution of rank comm.rank()'s part of a specimen whose whole colouring is
+/// `global`: its decomposition, and the local model built from it into m.
+template <class ExecutionSpace, class MemorySpace>
+std::unique_ptr<Distribution<MemorySpace>> distribute(const ExecutionSpace& space, const par::Comm& comm,
+                                                      const geometry::Specimen& s, const geometry::Interfaces& f,
+                                                      const geometry::Adjacency& adj, const Colouring& global,
+                                                      const deck::Mortar& mortar, int quadrature_points,
+                                                      Model<MemorySpace>& m) {
+  auto dist = std::make_unique<Distribution<MemorySpace>>();
+  dist->comm = comm;
+  dist->d = par::decompose(comm.rank(), comm.size(), s, f, adj, global.tile);
+  const auto ls = par::local_specimen(dist->d, s);
+  const auto lf = par::local_interfaces(dist->d, f);
+  m = build_model(space, ls, lf, geometry::build_adjacency(ls.size(), lf), local_colouring(dist->d, global), mortar,
+                  quadrature_points);
+  dist->halo = std::make_unique<PoseHalo<MemorySpace>>(space, dist->d, global, m);
+  dist->iface_owned = Kokkos::View<std::uint8_t*, MemorySpace>(
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::iface_owned"), std::max(m.n_interfaces, 1));
+  auto h = Kokkos::create_mirror_view(dist->iface_owned);
+  for (int i = 0; i < m.n_interfaces; ++i) h(i) = dist->d.iface_owned[m.iface_perm[i]];
+  Kokkos::deep_copy(space, dist->iface_owned, h);
+  for (int c : global.colour) dist->n_free += c >= 0;
+  dist->n_interfaces = f.size();
+  space.fence("nacre::mc::distribute");
+  return dist;
 }
 
 template <class MemorySpace>
@@ -187,4 +236,4 @@ long long PoseHalo<MemorySpace>::cycle_bytes() const {
   return n * kPoseWords * static_cast<long long>(sizeof(double));
 }
 
-}  // namespace nacre::par
+}  // namespace nacre::mc

@@ -1,10 +1,10 @@
-// A rank's colouring (include/nacre/par/halo.hpp says why halo bricks are not swept).
-#include <nacre/par/halo.hpp>
+// A rank's colouring (include/nacre/mc/halo.hpp says why halo bricks are not swept).
+#include <nacre/mc/halo.hpp>
 
-namespace nacre::par {
+namespace nacre::mc {
 
-mc::Colouring local_colouring(const Decomposition& d, const mc::Colouring& global) {
-  mc::Colouring c;
+Colouring local_colouring(const par::Decomposition& d, const Colouring& global) {
+  Colouring c;
   c.name = global.name;
   c.n_colours = global.n_colours;
   for (std::size_t k = 0; k < d.bricks.size(); ++k) {
@@ -16,4 +16,4 @@ mc::Colouring local_colouring(const Decomposition& d, const mc::Colouring& globa
   return c;
 }
 
-}  // namespace nacre::par
+}  // namespace nacre::mc
