@@ -31,11 +31,7 @@ using namespace nacre;
 namespace {
 
 deck::Deck deck_for(long bricks) {
-  deck::Deck d;
-  size_specimen(d.geometry, bricks);
-  d.geometry.notch_y = std::floor(0.5 * d.geometry.height);
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
+  deck::Deck d = mc_bench_deck(bricks);
   d.solver.temperature = 1e-7;
   d.solver.step = d.solver.min_step = d.solver.max_step = 2e-5;
   d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-5;

@@ -41,11 +41,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::uint64_t kSeed = 2017;
 
 deck::Deck deck_for(long bricks) {
-  deck::Deck d;
-  size_specimen(d.geometry, bricks);
-  d.geometry.notch_y = std::floor(0.5 * d.geometry.height);
-  d.mortar.bed = {100.0, 0.002, 0.004};
-  d.mortar.head = {100.0, 0.001, 0.002};
+  deck::Deck d = mc_bench_deck(bricks);
   d.load.tension = 1.0, d.load.bending = 0.5;
   return d;
 }
@@ -72,8 +68,8 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 
 long sweep(const mc::Model<MS>& m, int c, long cycle, Field<double, MS> cache, Field<double, MS> de) {
   return mc::sweep_colour(ExecSpace{}, m, m.colour_tiles[c], m.colour_tiles[c + 1],
-                          mc::PhiloxUniforms<MS>{m.id, kSeed, static_cast<std::uint64_t>(cycle)}, cache, de, 2e-5,
-                          1e-5, 1e-7);
+                          mc::PhiloxUniforms<MS>{m.id, kSeed, static_cast<std::uint64_t>(cycle)}, cache, de, 2e-5, 1e-5,
+                          1e-7);
 }
 
 /// Poses of the owned bricks in the specimen's numbering (5 words each).
@@ -132,8 +128,8 @@ int main(int argc, char* argv[]) {
         if (P > 64 && r >= 64) break;  // a sample of ranks is enough for the large counts
       }
       std::ostringstream row;
-      row << P << ',' << w.s.size() << ',' << w.col.n_colours << ',' << min_owned << ',' << max_owned << ','
-          << max_halo << ',' << max_nb << ',' << max_halo * mc::kPoseWords * 8;
+      row << P << ',' << w.s.size() << ',' << w.col.n_colours << ',' << min_owned << ',' << max_owned << ',' << max_halo
+          << ',' << max_nb << ',' << max_halo * mc::kPoseWords * 8;
       append(csv, "ranks,bricks,colours,min_owned,max_owned,max_halo_bricks,max_neighbours,max_bytes_per_cycle",
              row.str());
       std::cout << row.str() << std::endl;
@@ -150,7 +146,8 @@ int main(int argc, char* argv[]) {
   mc::Model<MS> m = mc::build_model(ExecSpace{}, ls, lf, geometry::build_adjacency(ls.size(), lf),
                                     mc::local_colouring(dd, w.col), d.mortar, 4);
   mc::PoseHalo<MS> halo(ExecSpace{}, dd, w.col, m);
-  Field<double, MS> cache("nacre::perf::cache", std::max(m.n_interfaces, 1)), de("nacre::perf::de", std::max(m.n_free, 1));
+  Field<double, MS> cache("nacre::perf::cache", std::max(m.n_interfaces, 1)),
+      de("nacre::perf::de", std::max(m.n_free, 1));
   mc::apply_load(ExecSpace{}, m, loading::Pattern{d.load.tension, d.load.bending, d.geometry.width}, 0.004);
   halo.exchange(ExecSpace{}, comm, m, -1);
   mc::interface_energies(ExecSpace{}, m, cache);
@@ -172,8 +169,10 @@ int main(int argc, char* argv[]) {
         t_sweep += seconds(a, b), t_exchange += seconds(b, Clock::now());
       }
     const double t = comm.max(seconds(t0, Clock::now()));
-    if (t < best) best = t, best_sweep = comm.max(t_sweep), best_exchange = comm.max(t_exchange);
-    else (void)comm.max(t_sweep), (void)comm.max(t_exchange);
+    if (t < best)
+      best = t, best_sweep = comm.max(t_sweep), best_exchange = comm.max(t_exchange);
+    else
+      (void)comm.max(t_sweep), (void)comm.max(t_exchange);
   }
   accepted = comm.sum(accepted);
   const long long bytes = comm.sum(halo.cycle_bytes());
@@ -210,8 +209,8 @@ int main(int argc, char* argv[]) {
     std::ostringstream row;
     row << comm.size() << ',' << dd.dims[0] << 'x' << dd.dims[1] << ',' << w.s.size() << ',' << w.col.n_colours << ','
         << Kokkos::DefaultExecutionSpace().concurrency() << ',' << cycles << ',' << per_cycle << ','
-        << best_sweep / cycles << ',' << best_exchange / cycles << ',' << bytes << ',' << counts[2] << ','
-        << counts[0] << ',' << min_owned << ',' << max_owned << ',' << accepted << ',' << agree;
+        << best_sweep / cycles << ',' << best_exchange / cycles << ',' << bytes << ',' << counts[2] << ',' << counts[0]
+        << ',' << min_owned << ',' << max_owned << ',' << accepted << ',' << agree;
     append(csv,
            "ranks,grid,bricks,colours,threads_per_rank,cycles,s_per_cycle,sweep_s_per_cycle,exchange_s_per_cycle,"
            "bytes_per_cycle,messages_per_cycle,halo_bricks,min_owned,max_owned,accepted,agreement",

@@ -16,6 +16,17 @@ inline void size_specimen(deck::Geometry& g, long bricks) {
   g.notch_length = 0.4 * g.width;
 }
 
+/// \brief The Monte Carlo benchmarks' specimen and mortar: sized as above, notched at mid-height,
+/// the brittle mortar of the tests (bed x1 0.002, x2 0.004; head 0.001, 0.002).
+inline deck::Deck mc_bench_deck(long bricks) {
+  deck::Deck d;
+  size_specimen(d.geometry, bricks);
+  d.geometry.notch_y = std::floor(0.5 * d.geometry.height);
+  d.mortar.bed = {100.0, 0.002, 0.004};
+  d.mortar.head = {100.0, 0.001, 0.002};
+  return d;
+}
+
 /// \brief The dynamics benchmarks' specimen (units mm): sized as above, the width rounded to a
 /// multiple of half a brick (the running bond then leaves whole and half bricks only, no slivers:
 /// a clipped sliver is a stiffer element type and sets a smaller critical step), bricks

@@ -128,8 +128,7 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
   // (trial energies, brick energies, gradients): it does not depend on the sweep order, so a
   // rank's model of a part of the specimen (mc/halo.hpp) adds in the order of the whole one.
   for (int k = 0; k < n; ++k) {
-    std::sort(hadj.data() + hoff(k), hadj.data() + hoff(k + 1),
-              [&](int x, int y) { return iperm[x] < iperm[y]; });
+    std::sort(hadj.data() + hoff(k), hadj.data() + hoff(k + 1), [&](int x, int y) { return iperm[x] < iperm[y]; });
     for (int j = hoff(k); j < hoff(k + 1); ++j) {
       const int i = hadj(j);
       const auto& law = m.laws[hkind(i)];

@@ -68,8 +68,10 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
   // candidate (results may then differ between runs; the pick goes to summary.json).
   if (chosen == "auto") chosen = auto_colouring();
   if (chosen == "fastest" && comm.size() > 1)
-    throw std::invalid_argument("colouring = \"fastest\" picks by timing, which ranks need not agree on: name a "
-                                "colouring (or \"auto\") for a run on " + std::to_string(comm.size()) + " ranks");
+    throw std::invalid_argument(
+        "colouring = \"fastest\" picks by timing, which ranks need not agree on: name a "
+        "colouring (or \"auto\") for a run on " +
+        std::to_string(comm.size()) + " ranks");
   if (chosen == "fastest") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
   const Colouring c = make_colouring(chosen, s, adj, free_flags(s), d.seed);
   setup(s, f, adj, c, comm);
@@ -97,13 +99,14 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
     // what is spread over ranks so far (docs/scaling.md); the rest says so before any work
     const std::string ranks = " on " + std::to_string(comm.size()) + " ranks";
     if (cfg_.relax != Relaxation::monte_carlo)
-      throw std::invalid_argument("relaxation = \"" + std::string(cfg_.relax == Relaxation::gradient ? "gradient"
-                                                                      : cfg_.relax == Relaxation::newton ? "newton"
-                                                                                                         : "auto") +
+      throw std::invalid_argument("relaxation = \"" +
+                                  std::string(cfg_.relax == Relaxation::gradient ? "gradient"
+                                              : cfg_.relax == Relaxation::newton ? "newton"
+                                                                                 : "auto") +
                                   "\" runs on one rank only: relaxation = \"monte-carlo\" runs" + ranks);
     if (cfg_.polish != PolishMethod::fire && cfg_.polish != PolishMethod::none)
-      throw std::invalid_argument("polish = \"" + std::string(polish_method_name(cfg_.polish)) + "\" runs on one rank only: \"fire\" or \"none\" run" +
-                                  ranks);
+      throw std::invalid_argument("polish = \"" + std::string(polish_method_name(cfg_.polish)) +
+                                  "\" runs on one rank only: \"fire\" or \"none\" run" + ranks);
     dist_ = distribute(space_, comm, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points, m_);
   } else {
     m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
@@ -275,7 +278,8 @@ std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* e
   std::vector<double> recs;  // (interface, state, energy) of each owned interface
   for (int i = 0; i < m_.n_interfaces; ++i)
     if (owned_interface(i))
-      recs.insert(recs.end(), {static_cast<double>(global_interface(i)), static_cast<double>(h(i)), energy ? he(i) : 0.0});
+      recs.insert(recs.end(),
+                  {static_cast<double>(global_interface(i)), static_cast<double>(h(i)), energy ? he(i) : 0.0});
   const std::vector<double> all = assemble(n_interfaces_global(), 2, recs);  // back to the geometry's order
   std::vector<std::int8_t> out(n_interfaces_global());
   if (energy) energy->assign(out.size(), 0.0);
@@ -932,8 +936,10 @@ std::vector<double> SolverOn<Exec>::checkpoint_poses() const {
 template <class Exec>
 void SolverOn<Exec>::one_process_only(const char* what) const {
   if (dist_)
-    throw std::logic_error(std::string("mc::Solver: ") + what + " is not yet spread over ranks (docs/scaling.md); this "
-                           "run has " + std::to_string(dist_->comm.size()));
+    throw std::logic_error(std::string("mc::Solver: ") + what +
+                           " is not yet spread over ranks (docs/scaling.md); this "
+                           "run has " +
+                           std::to_string(dist_->comm.size()));
 }
 
 // ---- the face: the backend picks the space once; every member forwards to SolverOn<space>

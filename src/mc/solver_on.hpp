@@ -75,7 +75,9 @@ private:
   void setup(const geometry::Specimen& s, const geometry::Interfaces& f, const geometry::Adjacency& adj,
              const Colouring& c, const par::Comm& comm = {});
   /// deterministic_sum's combine for `owned` terms of this rank (every term in one process)
-  [[nodiscard]] par::Reduce over(long long owned) const { return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned}; }
+  [[nodiscard]] par::Reduce over(long long owned) const {
+    return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned};
+  }
   /// after a move of every brick (load aside: apply_load leaves the halo alone): the halo's poses
   void refresh_halo() {
     if (dist_) dist_->refresh(space_, m_);

@@ -22,8 +22,8 @@ bool mpi_up() {
   return init && !fin;
 }
 void check(int rc, const char* what) {
-  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("nacre::par: ") + what + " failed (MPI error " +
-                                                  std::to_string(rc) + ")");
+  if (rc != MPI_SUCCESS)
+    throw std::runtime_error(std::string("nacre::par: ") + what + " failed (MPI error " + std::to_string(rc) + ")");
 }
 #endif
 }  // namespace
@@ -130,7 +130,8 @@ std::vector<std::vector<T>> gather_impl([[maybe_unused]] const Comm& c, const st
     check(MPI_Gatherv(mine.data(), n, type, flat.data(), counts.data(), displs.data(), type, 0, MPI_COMM_WORLD),
           "MPI_Gatherv");
     if (c.rank() == 0)
-      for (int r = 0; r < c.size(); ++r) all.emplace_back(flat.begin() + displs[r], flat.begin() + displs[r] + counts[r]);
+      for (int r = 0; r < c.size(); ++r)
+        all.emplace_back(flat.begin() + displs[r], flat.begin() + displs[r] + counts[r]);
     return all;
   }
 #endif
@@ -139,7 +140,9 @@ std::vector<std::vector<T>> gather_impl([[maybe_unused]] const Comm& c, const st
 }
 }  // namespace
 
-std::vector<std::vector<double>> Comm::gather(const std::vector<double>& mine) const { return gather_impl(*this, mine); }
+std::vector<std::vector<double>> Comm::gather(const std::vector<double>& mine) const {
+  return gather_impl(*this, mine);
+}
 std::vector<std::vector<long long>> Comm::gather(const std::vector<long long>& mine) const {
   return gather_impl(*this, mine);
 }

@@ -273,9 +273,9 @@ TEST_CASE("Monte Carlo colour sweeps on the MPI ranks of this run leave the bits
       Kokkos::deep_copy(owned, h);
     }
     const mc::InterfaceEvaluator<MS> ev(r.m);
-    const double e = deterministic_sum(ExecSpace{}, "nacre::test::par_energy", ws, 0, r.m.n_interfaces,
-                                       KOKKOS_LAMBDA(const int i) { return owned(i) ? ev.energy(i) : 0.0; },
-                                       par::Reduce{&comm, r.d.owned_interfaces});
+    const double e = deterministic_sum(
+        ExecSpace{}, "nacre::test::par_energy", ws, 0, r.m.n_interfaces,
+        KOKKOS_LAMBDA(const int i) { return owned(i) ? ev.energy(i) : 0.0; }, par::Reduce{&comm, r.d.owned_interfaces});
     CHECK(std::memcmp(&e, &e_ref, sizeof e) == 0);
     // every rank's poses, gathered on rank 0, are the one-process poses
     State mine = blank(w);

@@ -169,8 +169,8 @@ struct FoldTerms {
 /// partial results of the processes that share the sum (sum::Local: this process alone; every
 /// process of a shared sum must call with its own terms, possibly none).
 template <class ExecutionSpace, class MemorySpace, class Term, class Combine = sum::Local>
-double deterministic_sum(const ExecutionSpace& space, const char* label, SumWorkspace<MemorySpace>& ws,
-                         int begin, int end, const Term& term, const Combine& combine = {}) {
+double deterministic_sum(const ExecutionSpace& space, const char* label, SumWorkspace<MemorySpace>& ws, int begin,
+                         int end, const Term& term, const Combine& combine = {}) {
   static_assert(Kokkos::is_execution_space_v<ExecutionSpace>, "deterministic_sum: not an execution space");
   static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemorySpace>::accessible,
                 "deterministic_sum: workspace memory not accessible from the execution space");

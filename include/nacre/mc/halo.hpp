@@ -129,8 +129,8 @@ PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const par::Decompos
 
 template <class MemorySpace>
 template <class ExecutionSpace>
-std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space,
-                                                             const Model<MemorySpace>& m, int colour) const {
+std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space, const Model<MemorySpace>& m,
+                                                             int colour) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.send.extent(0));
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
@@ -161,7 +161,8 @@ std::vector<std::vector<double>> PoseHalo<MemorySpace>::receive_buffers(int colo
 template <class MemorySpace>
 template <class ExecutionSpace>
 void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<MemorySpace>& m, int colour,
-                                   const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const {
+                                   const std::vector<std::vector<double>>& recv,
+                                   Field<double, MemorySpace> cache) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.recv.extent(0));
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
@@ -178,7 +179,7 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<Memo
       });
   if (cache.data())
     interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
-                           static_cast<int>(l.stale.extent(0)));
+                       static_cast<int>(l.stale.extent(0)));
   space.fence("nacre::mc::halo_unpack");  // buf and h live until here
 }
 

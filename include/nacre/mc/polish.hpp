@@ -59,7 +59,9 @@ public:
 
 private:
   /// deterministic_sum's combine for `owned` terms of this rank (all of them in one process)
-  [[nodiscard]] par::Reduce over(long long owned) const { return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned}; }
+  [[nodiscard]] par::Reduce over(long long owned) const {
+    return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned};
+  }
   /// how many of the model's interfaces this rank sums (all in one process)
   [[nodiscard]] long long owned_interfaces(const Model<>& m) const {
     return dist_ ? dist_->d.owned_interfaces : m.n_interfaces;
@@ -122,7 +124,8 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   auto pose = m.pose;
   // spread over ranks: interfaces summed by their owner only (an empty view: every one here)
   const Kokkos::View<const std::uint8_t*, MemSpace> own =
-      dist_ ? Kokkos::View<const std::uint8_t*, MemSpace>(dist_->iface_owned) : Kokkos::View<const std::uint8_t*, MemSpace>();
+      dist_ ? Kokkos::View<const std::uint8_t*, MemSpace>(dist_->iface_owned)
+            : Kokkos::View<const std::uint8_t*, MemSpace>();
   const long long ni_owned = owned_interfaces(m);
   Kokkos::deep_copy(space, vel, 0.0);
   {
@@ -138,11 +141,11 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   double rounding_floor = 0;
   {
     auto e = iface_e_;
-    rounding_floor = 4 * DBL_EPSILON *
-                     deterministic_sum(
-                         space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
-                         KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : Kokkos::abs(e(i)); },
-                         over(ni_owned));
+    rounding_floor =
+        4 * DBL_EPSILON *
+        deterministic_sum(
+            space, "nacre::mc::polish::energy_scale", ws_, 0, ni,
+            KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : Kokkos::abs(e(i)); }, over(ni_owned));
   }
   PolishResult r;
   r.residual = residual(space, m, scale);
@@ -150,12 +153,14 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
     ++r.iterations;
     // forces in the coordinates (x, y, l theta): F = -(gx, gy, gt / l)
     const double P = -deterministic_sum(
-        space, "nacre::mc::polish::power", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
+        space, "nacre::mc::polish::power", ws_, 0, nf,
+        KOKKOS_LAMBDA(const int b) {
           return grad(b, 0) * vel(b, 0) + grad(b, 1) * vel(b, 1) + grad(b, 2) * inv_l * vel(b, 2);
         },
         over(nf));
     const double FF = deterministic_sum(
-        space, "nacre::mc::polish::force_norm", ws_, 0, nf, KOKKOS_LAMBDA(const int b) {
+        space, "nacre::mc::polish::force_norm", ws_, 0, nf,
+        KOKKOS_LAMBDA(const int b) {
           return grad(b, 0) * grad(b, 0) + grad(b, 1) * grad(b, 1) + grad(b, 2) * grad(b, 2) * inv_l * inv_l;
         },
         over(nf));
@@ -186,7 +191,8 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
     // energy test: the change summed as per-interface differences
     auto e = iface_e_, et = iface_trial_;
     const double dE = deterministic_sum(
-        space, "nacre::mc::polish::energy_change", ws_, 0, ni, KOKKOS_LAMBDA(const int i) {
+        space, "nacre::mc::polish::energy_change", ws_, 0, ni,
+        KOKKOS_LAMBDA(const int i) {
           const double v = ev.energy(i);
           et(i) = v;
           return own.data() && !own(i) ? 0.0 : v - e(i);

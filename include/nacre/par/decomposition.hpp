@@ -28,11 +28,11 @@ struct Decomposition {
   std::vector<int> owner;          ///< per specimen brick: its owning rank
   std::vector<int> bricks;         ///< local bricks (specimen indices): owned ascending, then halo ascending
   int n_owned = 0;
-  std::vector<int> local_of;       ///< per specimen brick: local index, or -1
-  std::vector<int> interfaces;     ///< local interfaces (specimen indices, ascending): those with an owned end
-  std::vector<char> iface_owned;   ///< per local interface: this rank owns it
+  std::vector<int> local_of;      ///< per specimen brick: local index, or -1
+  std::vector<int> interfaces;    ///< local interfaces (specimen indices, ascending): those with an owned end
+  std::vector<char> iface_owned;  ///< per local interface: this rank owns it
   long long owned_interfaces = 0;
-  std::vector<int> neighbours;     ///< ranks this one exchanges halo bricks with (ascending)
+  std::vector<int> neighbours;  ///< ranks this one exchanges halo bricks with (ascending)
   /// per neighbour: local indices of the owned bricks it holds in its halo / of this rank's halo
   /// bricks it owns; both in specimen order, so the two sides of a message list the same bricks
   std::vector<std::vector<int>> send, recv;
