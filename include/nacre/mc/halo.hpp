@@ -70,6 +70,11 @@ private:
   };
   std::vector<int> neighbours_;
   std::vector<Lists> lists_;  ///< [colour + 1]: 0 = every colour
+  /// message buffers, allocated once for the largest list (every colour: list 0) and reused by
+  /// every exchange (a device allocation per message would synchronise the device each time)
+  using Buffer = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;
+  Buffer send_buf_, recv_buf_;
+  typename Buffer::host_mirror_type send_host_, recv_host_;
   int n_colours_ = 0;
   [[nodiscard]] const Lists& lists(int colour) const { return lists_.at(static_cast<std::size_t>(colour + 1)); }
 };
@@ -124,6 +129,13 @@ PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const par::Decompos
     l.stale = upload(stale, "nacre::mc::halo_stale");
     lists_.push_back(std::move(l));
   }
+  const auto rows = [](const Kokkos::View<int*, MemorySpace>& v) { return std::max<std::size_t>(v.extent(0), 1); };
+  send_buf_ = Buffer(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_send_buffer"),
+                     rows(lists_[0].send), kPoseWords);
+  recv_buf_ = Buffer(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_recv_buffer"),
+                     rows(lists_[0].recv), kPoseWords);
+  send_host_ = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, send_buf_);
+  recv_host_ = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, recv_buf_);
   space.fence("nacre::mc::PoseHalo");
 }
 
@@ -133,15 +145,16 @@ std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpac
                                                              int colour) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.send.extent(0));
-  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
-      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_pack"), n, kPoseWords);
+  const auto buf = Kokkos::subview(send_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
+  const auto h = Kokkos::subview(send_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
   auto pose = m.pose;
   auto idx = l.send;
   Kokkos::parallel_for(
       "nacre::mc::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
         for (int w = 0; w < kPoseWords; ++w) buf(k, w) = pose(idx(k), w);
       });
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), buf);  // fences `space`'s copy
+  Kokkos::deep_copy(space, h, buf);
+  space.fence("nacre::mc::halo_pack");
   std::vector<std::vector<double>> out(neighbours_.size());
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
     out[q].assign(h.data() + static_cast<std::size_t>(l.send_off[q]) * kPoseWords,
@@ -165,9 +178,8 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<Memo
                                    Field<double, MemorySpace> cache) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.recv.extent(0));
-  Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> buf(
-      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::halo_unpack"), n, kPoseWords);
-  auto h = Kokkos::create_mirror_view(buf);
+  const auto buf = Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
+  const auto h = Kokkos::subview(recv_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
     std::copy(recv[q].begin(), recv[q].end(), h.data() + static_cast<std::size_t>(l.recv_off[q]) * kPoseWords);
   Kokkos::deep_copy(space, buf, h);
@@ -180,7 +192,7 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<Memo
   if (cache.data())
     interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
                        static_cast<int>(l.stale.extent(0)));
-  space.fence("nacre::mc::halo_unpack");  // buf and h live until here
+  space.fence("nacre::mc::halo_unpack");  // the buffers are reused by the next exchange
 }
 
 /// \brief A Monte Carlo solver's share of a specimen spread over the ranks of `comm` (mc::Solver
