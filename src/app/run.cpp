@@ -301,6 +301,17 @@ private:
 
 int run_deck(deck::Deck d, const RunOptions& opt) { return MonteCarloRun(std::move(d), opt).run(); }
 
+/// How many MPI ranks this process was started as one of (1: not under mpirun), from the
+/// launchers' environment (Open MPI, MPICH / Intel MPI's PMI, MVAPICH).
+int launched_ranks() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MV2_COMM_WORLD_SIZE"})
+    if (const char* s = std::getenv(v)) {
+      const int n = std::atoi(s);
+      if (n > 1) return n;
+    }
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char* argv[]) {
@@ -311,6 +322,15 @@ int main(int argc, char* argv[]) {
   // A file-size limit (ulimit -f) makes a write fail with EFBIG, which the atomic writers report
   // by name and clean up, instead of killing the process silently with a temporary left behind.
   std::signal(SIGXFSZ, SIG_IGN);
+  // Started as one of several MPI ranks, every rank would run the whole deck into the same output
+  // directory. The decomposition is the library's so far (mc::Solver with a par::Comm,
+  // docs/scaling.md), not the app's: refuse before anything is read or written.
+  if (const int ranks = launched_ranks(); ranks > 1) {
+    std::cerr << "nacre: error: started as one of " << ranks
+              << " MPI ranks; nacre runs a deck on one rank (the Monte Carlo solver spreads over ranks in the "
+                 "library, not yet in the app: docs/scaling.md). Run it without mpirun / mpiexec.\n";
+    return 2;
+  }
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
   if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
