@@ -215,16 +215,13 @@ template <class Exec>
 double SolverOn<Exec>::energy() {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
-  double e = 0;
-  if (dist_) {  // each interface summed by its owner
-    const InterfaceEvaluator<MemSpace> ev(m_);
-    auto own = dist_->iface_owned;
-    e = deterministic_sum(
-        space_, "nacre::mc::total_energy", sum_ws_, 0, m_.n_interfaces,
-        KOKKOS_LAMBDA(const int i) { return own(i) ? ev.energy(i) : 0.0; }, over(dist_->d.owned_interfaces));
-  } else {
-    e = total_energy(space_, m_, sum_ws_);
-  }
+  // each interface summed by its owner (all here in one process: total_energy's terms)
+  const InterfaceEvaluator<MemSpace> ev(m_);
+  const auto own = owned_mask(dist_.get());
+  const double e = deterministic_sum(
+      space_, "nacre::mc::total_energy", sum_ws_, 0, m_.n_interfaces,
+      KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : ev.energy(i); },
+      over(owned_interfaces(dist_.get(), m_)));
   times_.energy += timer.seconds();
   return e;
 }
@@ -297,11 +294,11 @@ double SolverOn<Exec>::dissipated() {
   Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
                    m_.n_interfaces);
   interface_dissipation(space_, m_, en);
-  auto own = dist_ ? dist_->iface_owned : Kokkos::View<std::uint8_t*, MemSpace>();
+  const auto own = owned_mask(dist_.get());
   return deterministic_sum(
       space_, "nacre::mc::dissipated", sum_ws_, 0, m_.n_interfaces,
       KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : en(i); },
-      over(dist_ ? dist_->d.owned_interfaces : m_.n_interfaces));
+      over(owned_interfaces(dist_.get(), m_)));
 }
 
 template <class Exec>

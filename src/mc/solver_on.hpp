@@ -76,7 +76,7 @@ private:
              const Colouring& c, const par::Comm& comm = {});
   /// deterministic_sum's combine for `owned` terms of this rank (every term in one process)
   [[nodiscard]] par::Reduce over(long long owned) const {
-    return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned};
+    return reduce_over(dist_.get(), owned);
   }
   /// after a move of every brick (load aside: apply_load leaves the halo alone): the halo's poses
   void refresh_halo() {
@@ -165,7 +165,6 @@ private:
   StepRecord failed_step_;
   const Solver* owner_ = nullptr;
   std::unique_ptr<Distribution<MemSpace>> dist_;  ///< this rank's part of a specimen spread over ranks (null: all here)
-  par::Comm one_;                                 ///< the one-process communicator of the sums when not spread
   std::ostream* log_;
 };
 

@@ -215,6 +215,24 @@ struct Distribution {
   }
 };
 
+/// \brief What a solver that may be spread over ranks (d) or not (null: one process) sums with:
+/// the combine for `owned` terms of this rank; the owned-interface mask (empty: every interface
+/// is this process's); how many of m's interfaces this rank sums.
+template <class MemorySpace>
+par::Reduce reduce_over(const Distribution<MemorySpace>* d, long long owned) {
+  static const par::Comm one{};  // one process: combines nothing
+  return d ? d->reduce(owned) : par::Reduce{&one, owned};
+}
+template <class MemorySpace>
+Kokkos::View<const std::uint8_t*, MemorySpace> owned_mask(const Distribution<MemorySpace>* d) {
+  return d ? Kokkos::View<const std::uint8_t*, MemorySpace>(d->iface_owned)
+           : Kokkos::View<const std::uint8_t*, MemorySpace>();
+}
+template <class MemorySpace>
+long long owned_interfaces(const Distribution<MemorySpace>* d, const Model<MemorySpace>& m) {
+  return d ? d->d.owned_interfaces : m.n_interfaces;
+}
+
 /// \brief The distribution of rank comm.rank()'s part of a specimen whose whole colouring is
 /// `global`: its decomposition, and the local model built from it into m.
 template <class ExecutionSpace, class MemorySpace>

@@ -59,15 +59,8 @@ public:
 
 private:
   /// deterministic_sum's combine for `owned` terms of this rank (all of them in one process)
-  [[nodiscard]] par::Reduce over(long long owned) const {
-    return dist_ ? dist_->reduce(owned) : par::Reduce{&one_, owned};
-  }
-  /// how many of the model's interfaces this rank sums (all in one process)
-  [[nodiscard]] long long owned_interfaces(const Model<>& m) const {
-    return dist_ ? dist_->d.owned_interfaces : m.n_interfaces;
-  }
+  [[nodiscard]] par::Reduce over(long long owned) const { return reduce_over(dist_, owned); }
   const Distribution<MemSpace>* dist_ = nullptr;
-  par::Comm one_;
   GradientView<> grad_, vel_;
   Kokkos::View<double* [3], Kokkos::LayoutLeft, MemSpace> save_;
   Field<double> iface_e_, iface_trial_;
@@ -123,10 +116,8 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   auto grad = grad_, vel = vel_, save = save_;
   auto pose = m.pose;
   // spread over ranks: interfaces summed by their owner only (an empty view: every one here)
-  const Kokkos::View<const std::uint8_t*, MemSpace> own =
-      dist_ ? Kokkos::View<const std::uint8_t*, MemSpace>(dist_->iface_owned)
-            : Kokkos::View<const std::uint8_t*, MemSpace>();
-  const long long ni_owned = owned_interfaces(m);
+  const auto own = owned_mask(dist_);
+  const long long ni_owned = owned_interfaces(dist_, m);
   Kokkos::deep_copy(space, vel, 0.0);
   {
     auto e = iface_e_;
