@@ -13,6 +13,7 @@
 #include <nacre/io/results.hpp>
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
+#include <nacre/par/comm.hpp>
 
 #include "driver.hpp"
 #include "dyn_fields.hpp"
@@ -32,6 +33,7 @@
 #include <iostream>
 #include <new>
 #include <optional>
+#include <streambuf>
 #include <string_view>
 #include <unistd.h>
 
@@ -128,10 +130,16 @@ mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, 
 /// execution-space instance (a restart's state validated before the output directory is
 /// touched), the writer, the row / dump / checkpoint of every load step, and the ways a run ends
 /// (complete, stopped by a signal, a step not converged). Each phase is one member.
+///
+/// Spread over the ranks of `comm` (`mpirun -np N nacre DECK`), every rank runs this same
+/// sequence: each builds the specimen and its part of the solver, every gathering member
+/// (checkpoint, snapshot, interface states) is called on all of them, and rank 0 alone logs and
+/// writes. A signal counts once every rank has heard of it (a max over ranks after each cycle), so
+/// all stop after the same cycle. The files are those of the one-process run (docs/scaling.md).
 class MonteCarloRun {
 public:
-  MonteCarloRun(deck::Deck d, const RunOptions& opt)
-      : d_(std::move(d)), opt_(opt),
+  MonteCarloRun(deck::Deck d, const RunOptions& opt, const par::Comm& comm)
+      : d_(std::move(d)), opt_(opt), comm_(comm), root_(comm.rank() == 0),
         session_(d_, opt.quiet, opt.tty, opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)),
         log_(session_.log()), text_(physics_text(d_)), print_(fingerprint(text_)) {
     Kokkos::Profiling::ScopedRegion region("nacre::geometry::build");
@@ -140,17 +148,20 @@ public:
 
   int run() {
     session_.log_start(std::to_string(specimen_.size()) + " bricks, " + std::to_string(interfaces_.size()) +
-                       " interfaces (" + format_real(session_.elapsed(), 4) + " s)");
+                       " interfaces (" + format_real(session_.elapsed(), 4) + " s)" +
+                       (comm_.size() > 1 ? ", " + std::to_string(comm_.size()) + " MPI ranks" : std::string()));
     make_solver();
+    // every rank has read the checkpoint (restart) before rank 0 sets up the directory
+    comm_.barrier();
     // Only now, with everything validated, is the output directory set up (a restart into
     // another directory writes its own mesh.h5 and receives the earlier rows).
     io::RunWriter::Options wo;
     wo.directory = d_.output.directory, wo.hdf5 = d_.output.hdf5, wo.csv_header = mc::csv_header();
-    writer_.emplace(session_.open_writer(wo, specimen_, interfaces_, opt_.restart, cp_ ? cp_->run.step : 0));
+    if (root_) writer_.emplace(session_.open_writer(wo, specimen_, interfaces_, opt_.restart, cp_ ? cp_->run.step : 0));
     crack_.emplace(specimen_, interfaces_, d_.geometry);  // the crack_* columns, the dumps' "crack"
     last_ = named_checkpoint();                            // state after the last completed step
     SignalGuard signals;
-    solver_->should_stop = [] { return pending_signal() != 0; };
+    solver_->should_stop = [this] { return agreed_signal() != 0; };
     t_run_ = session_.elapsed();
     if (session_.progress()) solver_->on_progress = [this](long c, double e) { progress_line(c, e); };
     else if (session_.heartbeat()) solver_->on_progress = [this](long c, double e) { heartbeat_line(c, e); };
@@ -160,12 +171,15 @@ public:
     if (solver_->interrupted()) {
       // The write in progress finished before the flag was seen; the step in progress is dropped
       // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
+      if (!writer_) return 128 + signal_;
       writer_->checkpoint(last_);
-      return session_.stopped_by_signal(pending_signal(), "step " + std::to_string(last_.integer("step")), *writer_);
+      return session_.stopped_by_signal(signal_, "step " + std::to_string(last_.integer("step")), *writer_);
     }
     if (solver_->failed()) return not_converged();
-    writer_->summary(mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), read_crack(),
-                                      crack_->notch_tip_x()));
+    const fracture::CrackReading crack = read_crack();  // gathered: every rank
+    if (!writer_) return 0;
+    writer_->summary(
+        mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), crack, crack_->notch_tip_x()));
     if (log_) {
       const auto& pt = solver_->times();
       *log_ << "nacre: done in " << session_.elapsed() << " s; " << solver_->global_cycle()
@@ -183,7 +197,7 @@ private:
       cp_ = validated_checkpoint(d_, opt_, specimen_.size(), n_free_);
       d_.solver.colouring = cp_->colouring;  // the run continues with the schedule it started with
     }
-    solver_.emplace(session_.backend(), d_, specimen_, interfaces_, log_);
+    solver_.emplace(session_.backend(), d_, specimen_, interfaces_, log_, comm_);
     if (!cp_) return;
     try {
       solver_->restore(*cp_);
@@ -219,8 +233,16 @@ private:
     if (state == snap.fields.end()) throw std::logic_error("mc::snapshot holds no interface state");
     snap.fields.push_back(
         {io::Centre::interface, "crack", crack_->crack_mask(std::get<std::vector<std::int8_t>>(state->data)), 1});
+    if (!writer_) return;  // another rank's: rank 0 writes
     writer_->dump(snap);
     writer_->checkpoint(last_);
+  }
+
+  /// The first SIGINT / SIGTERM any rank received (0: none). One process: its own flag; on
+  /// several ranks a max over them, so every rank stops after the same cycle.
+  int agreed_signal() {
+    signal_ = comm_.size() > 1 ? static_cast<int>(comm_.max(pending_signal())) : pending_signal();
+    return signal_;
   }
 
   /// The live line (the solver calls after every cycle; at most 4 lines a second, and one at the
@@ -247,7 +269,8 @@ private:
   /// A completed load step: its row, the dump and checkpoint where due, the log or progress line.
   void step_done(const mc::StepRecord& r) {
     current_step_ = r.step;
-    writer_->row(r.step, mc::csv_row(r, read_crack()));
+    const fracture::CrackReading crack = read_crack();
+    if (writer_) writer_->row(r.step, mc::csv_row(r, crack));
     last_ = named_checkpoint();
     if ((d_.output.dump_interval > 0 && r.step % d_.output.dump_interval == 0) || r.last) dump(r.step);
     if (session_.progress()) {
@@ -267,6 +290,7 @@ private:
   /// checkpoint holds the last completed step; no summary (the run did not finish). Exit 4.
   int not_converged() {
     const auto& f = solver_->failed_step();
+    if (!writer_) return 4;
     writer_->checkpoint(last_);
     std::cerr << "nacre: step " << f.step << " (D = " << f.displacement << ") not converged after " << f.cycles
               << " cycles"
@@ -282,6 +306,9 @@ private:
 
   deck::Deck d_;
   const RunOptions& opt_;
+  const par::Comm comm_;
+  const bool root_;  ///< rank 0: logs and writes
+  int signal_ = 0;   ///< agreed_signal()'s last answer
   RunSession session_;
   std::ostream* log_;
   const std::string text_, print_;  ///< the deck's physics text and its fingerprint (checkpoints)
@@ -299,7 +326,9 @@ private:
   double t_run_ = 0;
 };
 
-int run_deck(deck::Deck d, const RunOptions& opt) { return MonteCarloRun(std::move(d), opt).run(); }
+int run_deck(deck::Deck d, const RunOptions& opt, const par::Comm& comm) {
+  return MonteCarloRun(std::move(d), opt, comm).run();
+}
 
 /// How many MPI ranks this process was started as one of (1: not under mpirun), from the
 /// launchers' environment (Open MPI, MPICH / Intel MPI's PMI, MVAPICH).
@@ -312,6 +341,45 @@ int launched_ranks() {
   return 1;
 }
 
+/// This process's rank among them, from the same environment (0 when not under a launcher).
+int launched_rank() {
+  for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "MV2_COMM_WORLD_RANK"})
+    if (const char* s = std::getenv(v)) return std::atoi(s);
+  return 0;
+}
+
+/// Standard output and error discarded for the life of the object (the ranks other than 0 while
+/// the command line, deck and checkpoint are validated: rank 0 prints the one message).
+class Silence {
+public:
+  Silence() : out_(std::cout.rdbuf(&null_)), err_(std::cerr.rdbuf(&null_)) {}
+  ~Silence() {
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+  }
+  Silence(const Silence&) = delete;
+  Silence& operator=(const Silence&) = delete;
+
+private:
+  struct Null : std::streambuf {
+    int overflow(int c) override { return traits_type::not_eof(c); }
+  } null_;
+  std::streambuf *out_, *err_;
+};
+
+/// " on rank r of n" when the run has several ranks, else "".
+std::string on_rank(const par::Comm& comm) {
+  return comm.size() > 1 ? " on rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size())
+                         : std::string();
+}
+
+/// A run that failed with `code`: on several ranks the others may wait in a collective for this
+/// one, so the whole run ends here (MPI_Abort); one process returns the code.
+int failed(const par::Comm& comm, int code) {
+  if (comm.size() > 1) comm.abort(code);
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char* argv[]) {
@@ -322,15 +390,26 @@ int main(int argc, char* argv[]) {
   // A file-size limit (ulimit -f) makes a write fail with EFBIG, which the atomic writers report
   // by name and clean up, instead of killing the process silently with a temporary left behind.
   std::signal(SIGXFSZ, SIG_IGN);
-  // Started as one of several MPI ranks, every rank would run the whole deck into the same output
-  // directory. The decomposition is the library's so far (mc::Solver with a par::Comm,
-  // docs/scaling.md), not the app's: refuse before anything is read or written.
-  if (const int ranks = launched_ranks(); ranks > 1) {
-    std::cerr << "nacre: error: started as one of " << ranks
-              << " MPI ranks; nacre runs a deck on one rank (the Monte Carlo solver spreads over ranks in the "
-                 "library, not yet in the app: docs/scaling.md). Run it without mpirun / mpiexec.\n";
+  // Started as one of several MPI ranks (mpirun / mpiexec / srun): the Monte Carlo run is spread
+  // over them (docs/scaling.md); a build without MPI, the sweep and the bench refuse before
+  // anything is read or written (else every rank would run the whole deck into one directory).
+  const int ranks = launched_ranks();
+  const bool subcommand = argc > 1 && (std::string_view(argv[1]) == "sweep" || std::string_view(argv[1]) == "bench");
+  if (ranks > 1 && (!par::has_mpi() || subcommand)) {
+    if (launched_rank() == 0)
+      std::cerr << "nacre: error: started as one of " << ranks << " MPI ranks; "
+                << (subcommand ? "nacre " + std::string(argv[1]) + " runs on one rank"
+                               : std::string("this nacre was built without MPI (configure with -DNACRE_ENABLE_MPI=ON)"))
+                << ". Run it without mpirun / mpiexec.\n";
     return 2;
   }
+  std::optional<par::Environment> mpi;  // outlives Kokkos (declared before its ScopeGuard)
+  if (ranks > 1) mpi.emplace(argc, argv);
+  const par::Comm comm = par::Comm::world();
+  // Every rank reads the same command line, deck and checkpoint: rank 0's messages say it all.
+  // The others stay silent until the run (where a failure of one rank alone is printed by it).
+  std::optional<Silence> silent;
+  if (comm.rank() != 0) silent.emplace();
   // --kokkos-* flags go to Kokkos (ScopeGuard), the rest to CLI11. Both vectors end with the
   // argv[argc] == nullptr sentinel that Kokkos (and C convention) expect.
   if (argc > 1 && std::string_view(argv[1]) == "sweep") return sweep_main(argc, argv);
@@ -349,81 +428,102 @@ int main(int argc, char* argv[]) {
   std::string out_override;
   RunOptions opt;
   bool check_only = false, critical = false;
-  cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
-  cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
-  cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
-  cli.add_flag("--check", check_only, "validate the deck and exit");
-  cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
-      ->check(CLI::ExistingFile);
-  cli.add_flag("--critical-step", critical,
-               "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
-  cli.add_flag("--overwrite", opt.overwrite,
-               "start afresh even where the output directory holds the checkpoint of an unfinished run");
-  cli.add_option("--backend", opt.backend,
-                 "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
-                 "default: Kokkos' default space")
-      ->check([](const std::string& b) {
-        return Backend::canonical(b).empty()
-                   ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
-                   : std::string();
-      });
-  cli.add_flag("--extend", opt.extend,
-               "with --restart: the deck's final_displacement may differ from the checkpoint's run "
-               "(continue a finished run further)");
-  cli.footer("Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
-             "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
-             "checkpoint, 3 dynamic run stopped unstable, 4 a load step not converged (residual above the tolerance "
-             "after max_cycles; completed steps and their checkpoint kept), 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
-  if (const int rc = parse_command_line(cli, app_args, [&] { check_kokkos_flags(kokkos_args); }); rc >= 0) return rc;
-  if (opt.extend && opt.restart.empty()) {
-    std::cerr << "nacre: error: --extend needs --restart\n";
-    return 2;
-  }
-
   deck::Deck d;
-  try {
-    d = deck::parse_deck_file(deck_path);
-  } catch (const deck::DeckError& e) {
-    std::cerr << "nacre: error: " << e.what() << "\n";
-    return 2;
-  }
-  if (!out_override.empty()) d.output.directory = out_override;
-  if (!opt.backend.empty()) opt.backend = Backend::canonical(opt.backend);  // checked above: "Serial" -> "serial"
-  if (critical && !d.dynamics.enabled) {
-    std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
-    return 2;
-  }
-  if (check_only) {
-    std::cout << "nacre: " << deck_path << ": deck is valid\n";
-    if (opt.restart.empty()) return 0;
-    try {  // host-only: the specimen and the checkpoint, no Kokkos, no output
-      geometry::Specimen specimen;
-      geometry::Interfaces interfaces;
-      std::size_t n_free = 0;
-      if (d.dynamics.enabled) {  // the same validation as the run's (dyn_fields.hpp, run_dynamics)
-        const DynCheckpoint cp = validated_dyn_checkpoint(d, opt.restart, opt.extend);
-        std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.step
-                  << ", t = " << cp.time << " s of " << d.dynamics.end_time << " s)\n";
-        return 0;
-      }
-      build(d, specimen, interfaces, n_free);
-      const mc::Checkpoint cp = validated_checkpoint(d, opt, specimen.size(), n_free);
-      std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.run.step
-                << ", D = " << cp.displacement << ")\n";
-      return 0;
+  // Everything is validated before Kokkos starts and before any output; on several ranks they
+  // agree (the largest exit code) so that none goes on alone into the run's collectives.
+  const auto prepare = [&]() -> int {
+    cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
+    cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
+    cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
+    cli.add_flag("--check", check_only, "validate the deck and exit");
+    cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
+        ->check(CLI::ExistingFile);
+    cli.add_flag("--critical-step", critical,
+                 "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
+    cli.add_flag("--overwrite", opt.overwrite,
+                 "start afresh even where the output directory holds the checkpoint of an unfinished run");
+    cli.add_option("--backend", opt.backend,
+                   "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
+                   "default: Kokkos' default space")
+        ->check([](const std::string& b) {
+          return Backend::canonical(b).empty()
+                     ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
+                     : std::string();
+        });
+    cli.add_flag("--extend", opt.extend,
+                 "with --restart: the deck's final_displacement may differ from the checkpoint's run "
+                 "(continue a finished run further)");
+    cli.footer(
+        "Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
+        "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
+        "checkpoint, 3 dynamic run stopped unstable, 4 a load step not converged (residual above the tolerance "
+        "after max_cycles; completed steps and their checkpoint kept), 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
+    if (const int rc = parse_command_line(cli, app_args, [&] { check_kokkos_flags(kokkos_args); }); rc >= 0) return rc;
+    if (opt.extend && opt.restart.empty()) {
+      std::cerr << "nacre: error: --extend needs --restart\n";
+      return 2;
+    }
+
+    try {
+      d = deck::parse_deck_file(deck_path);
     } catch (const deck::DeckError& e) {
       std::cerr << "nacre: error: " << e.what() << "\n";
-    } catch (const io::CheckpointError& e) {
-      std::cerr << "nacre: error: cannot restart: " << e.what() << "\n";
+      return 2;
     }
-    return 2;
-  }
-  try {
-    check_not_overwriting(d, opt.restart, opt.overwrite);
-  } catch (const UsageError& e) {
-    std::cerr << "nacre: error: " << e.what() << "\n";
-    return 2;
-  }
+    if (!out_override.empty()) d.output.directory = out_override;
+    if (!opt.backend.empty()) opt.backend = Backend::canonical(opt.backend);  // checked above: "Serial" -> "serial"
+    if (critical && !d.dynamics.enabled) {
+      std::cerr << "nacre: error: " << deck_path << ": --critical-step needs a [dynamics] section in the deck\n";
+      return 2;
+    }
+    if (check_only) {
+      std::cout << "nacre: " << deck_path << ": deck is valid\n";
+      if (opt.restart.empty()) return 0;
+      try {  // host-only: the specimen and the checkpoint, no Kokkos, no output
+        geometry::Specimen specimen;
+        geometry::Interfaces interfaces;
+        std::size_t n_free = 0;
+        if (d.dynamics.enabled) {  // the same validation as the run's (dyn_fields.hpp, run_dynamics)
+          const DynCheckpoint cp = validated_dyn_checkpoint(d, opt.restart, opt.extend);
+          std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.step
+                    << ", t = " << cp.time << " s of " << d.dynamics.end_time << " s)\n";
+          return 0;
+        }
+        build(d, specimen, interfaces, n_free);
+        const mc::Checkpoint cp = validated_checkpoint(d, opt, specimen.size(), n_free);
+        std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.run.step
+                  << ", D = " << cp.displacement << ")\n";
+        return 0;
+      } catch (const deck::DeckError& e) {
+        std::cerr << "nacre: error: " << e.what() << "\n";
+      } catch (const io::CheckpointError& e) {
+        std::cerr << "nacre: error: cannot restart: " << e.what() << "\n";
+      }
+      return 2;
+    }
+    if (comm.size() > 1) {  // what is not yet spread over ranks says so now
+      std::string why =
+          d.dynamics.enabled || critical
+              ? d.path + ": [dynamics] decks run on one rank so far (docs/scaling.md); run it without mpirun"
+              : mc::ranks_refusal(d, comm.size());
+      if (!why.empty()) {
+        std::cerr << "nacre: error: " << why << "\n";
+        return 2;
+      }
+    }
+    try {
+      check_not_overwriting(d, opt.restart, opt.overwrite);
+    } catch (const UsageError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+      return 2;
+    }
+    return -1;
+  };
+  int rc = prepare();
+  if (comm.size() > 1) rc = static_cast<int>(comm.max(rc));
+  if (rc >= 0) return rc;
+  silent.reset();
+  if (comm.rank() != 0) opt.quiet = true;  // rank 0 logs
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
@@ -433,19 +533,20 @@ int main(int argc, char* argv[]) {
     if (d.dynamics.enabled)
       return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
                               opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)});
-    return run_deck(d, opt);
-  } catch (const deck::DeckError& e) {
-    std::cerr << "\nnacre: error: " << e.what() << "\n";
-    return 2;
+    return run_deck(d, opt, comm);
+  } catch (const deck::DeckError& e) {  // (every rank reads the same deck: rank 0 tells)
+    if (comm.rank() == 0) std::cerr << "\nnacre: error: " << e.what() << "\n";
+    return failed(comm, 2);
   } catch (const io::CheckpointError& e) {
-    std::cerr << "\nnacre: error: cannot restart: " << e.what() << "\n";
-    return 2;
+    if (comm.rank() == 0) std::cerr << "\nnacre: error: cannot restart: " << e.what() << "\n";
+    return failed(comm, 2);
   } catch (const std::bad_alloc&) {
-    std::cerr << "\nnacre: error: out of memory (raise nothing: reduce the specimen, see [limits] in docs/decks.md)\n";
-    return 1;
+    std::cerr << "\nnacre: error" << on_rank(comm)
+              << ": out of memory (raise nothing: reduce the specimen, see [limits] in docs/decks.md)\n";
+    return failed(comm, 1);
   } catch (const std::exception& e) {
-    std::cerr << "\nnacre: error: " << e.what() << "\n";
-    return 1;
+    std::cerr << "\nnacre: error" << on_rank(comm) << ": " << e.what() << "\n";
+    return failed(comm, 1);
   }
 }
 

@@ -35,25 +35,11 @@ std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack) {
 
 io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::snapshot");
-  const auto& m = solver.model();
   std::vector<double> x, y, t;
-  solver.poses(x, y, t);
-  using Kokkos::view_alloc, Kokkos::WithoutInitializing;
-  Field<double> be(view_alloc(WithoutInitializing, "nacre::mc::brick_energy_out"), m.n_bricks);
-  Field<double> ie(view_alloc(WithoutInitializing, "nacre::mc::iface_energy_out"), m.n_interfaces);
-  Field<std::int8_t> is(view_alloc(WithoutInitializing, "nacre::mc::iface_state_out"), m.n_interfaces);
-  solver.backend().visit([&](const auto& space) {
-    brick_energy(space, m, be);
-    interface_state(space, m, ie, is);
-  });
-  auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
-  auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
-  auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
+  solver.poses(x, y, t);  // specimen-wide on every rank (gathered when spread over ranks)
+  OutputFields of = solver.output_fields();
   const std::size_t n = s.size(), ni = f.size();
-  std::vector<double> energy(n), pts(2 * s.vx.size()), ipts(4 * ni), ienergy(ni);
-  std::vector<std::int8_t> istate(ni);
-  for (int k = 0; k < m.n_bricks; ++k) energy[m.perm[k]] = 0.5 * hbe(k);
-  for (std::size_t i = 0; i < ni; ++i) ienergy[m.iface_perm[i]] = hie(i), istate[m.iface_perm[i]] = his(i);
+  std::vector<double> pts(2 * s.vx.size()), ipts(4 * ni);
   auto moved = [&](std::size_t b, double px, double py, double& ox, double& oy) {
     double dx, dy;
     kinematics::point_displacement(kinematics::Pose{x[b], y[b], t[b]}, px - s.cx[b], py - s.cy[b], dx, dy);
@@ -74,33 +60,35 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
   snap.integers["cycle"] = static_cast<std::int64_t>(solver.global_cycle());
   using io::Centre;
   snap.fields.push_back({Centre::vertex, "points", std::move(pts), 2});
-  snap.fields.push_back({Centre::brick, "energy", std::move(energy), 1});
+  snap.fields.push_back({Centre::brick, "energy", std::move(of.brick_energy), 1});
   snap.fields.push_back({Centre::brick, "x", std::move(x), 1});
   snap.fields.push_back({Centre::brick, "y", std::move(y), 1});
   snap.fields.push_back({Centre::brick, "theta", std::move(t), 1});
   snap.fields.push_back({Centre::interface, "points", std::move(ipts), 2});
-  snap.fields.push_back({Centre::interface, "state", std::move(istate), 1});
-  snap.fields.push_back({Centre::interface, "energy", std::move(ienergy), 1});
+  snap.fields.push_back({Centre::interface, "state", std::move(of.interface_state), 1});
+  snap.fields.push_back({Centre::interface, "energy", std::move(of.interface_energy), 1});
   return snap;
 }
 
 std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
                          const fracture::CrackReading& crack, double notch_tip_x) {
   const auto& m = solver.model();
+  const Sizes z = solver.sizes();  // the specimen's, not a rank's part
   const auto& pt = solver.times();
   nlohmann::ordered_json j;
   j["deck"] = d.path;
   j["solver"] = "mc";
-  j["bricks"] = m.n_bricks;
-  j["free_bricks"] = m.n_free;
-  j["interfaces"] = m.n_interfaces;
+  j["bricks"] = z.bricks;
+  j["free_bricks"] = z.free_bricks;
+  j["interfaces"] = z.interfaces;
   j["colouring"] = m.colouring_name;
   j["colouring_rule"] = d.solver.colouring;
-  j["colours"] = m.colour_offset.size() - 1;
+  j["colours"] = z.colours;
   j["rng"] = d.solver.rng;
   j["seed"] = d.seed;
   const Backend backend = solver.backend();
-  j["threads"] = backend.concurrency();
+  j["ranks"] = z.ranks;
+  j["threads"] = backend.concurrency();  // per rank
   j["execution_space"] = backend.kokkos_name();
   j["backend"] = backend.name();
   j["steps"] = steps;

@@ -67,17 +67,35 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
   // per-brick natural colouring (one thread per brick) on devices. "fastest" times every
   // candidate (results may then differ between runs; the pick goes to summary.json).
   if (chosen == "auto") chosen = auto_colouring();
-  if (chosen == "fastest" && comm.size() > 1)
-    throw std::invalid_argument(
-        "colouring = \"fastest\" picks by timing, which ranks need not agree on: name a "
-        "colouring (or \"auto\") for a run on " +
-        std::to_string(comm.size()) + " ranks");
+  if (comm.size() > 1)  // what is not yet spread over ranks (docs/scaling.md) says so before any work
+    if (const std::string why = ranks_refusal(d, comm.size()); !why.empty()) throw std::invalid_argument(why);
   if (chosen == "fastest") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
   const Colouring c = make_colouring(chosen, s, adj, free_flags(s), d.seed);
   setup(s, f, adj, c, comm);
-  if (log_) *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << m_.n_free
-                  << " free and " << (m_.n_bricks - m_.n_free) << " driven bricks, " << m_.n_interfaces
-                  << " interfaces\n";
+  const Sizes z = sizes();  // the specimen's (a rank's model holds its part)
+  if (log_)
+    *log_ << "  colouring: " << chosen << " (" << c.n_colours << " colours), " << z.free_bricks << " free and "
+          << (z.bricks - z.free_bricks) << " driven bricks, " << z.interfaces << " interfaces"
+          << (z.ranks > 1 ? ", spread over " + std::to_string(z.ranks) + " ranks" : "") << "\n";
+}
+
+std::string ranks_refusal(const deck::Deck& d, int ranks) {
+  const std::string on = " on " + std::to_string(ranks) + " MPI ranks (docs/scaling.md); run it on one rank";
+  const Relaxation r = parse_relaxation(d);
+  if (r == Relaxation::newton || r == Relaxation::automatic)
+    return d.where("solver.relaxation") + ": relaxation = \"" + d.solver.relaxation +
+           "\" (trust-region Newton) is not yet spread over ranks; expected \"monte-carlo\" or \"gradient\" for a run" +
+           on;
+  const PolishMethod p = parse_polish_method(d.solver.polish);
+  if (p != PolishMethod::fire && p != PolishMethod::none)
+    return d.where("solver.polish") + ": polish = \"" + d.solver.polish +
+           "\" is not yet spread over ranks; expected \"fire\" or \"none\" for a run" + on;
+  if (d.solver.colouring == "fastest")
+    return d.where("solver.colouring") +
+           ": colouring = \"fastest\" picks by timing, which ranks need not agree on; expected a named colouring "
+           "(or \"auto\") for a run" +
+           on;
+  return "";
 }
 
 std::string auto_colouring() {
@@ -96,17 +114,6 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
                            const Colouring& c, const par::Comm& comm) {
   source_ = rng::make_uniform_source(cfg_.mc.rng, cfg_.seed);
   if (comm.size() > 1) {
-    // what is spread over ranks so far (docs/scaling.md); the rest says so before any work
-    const std::string ranks = " on " + std::to_string(comm.size()) + " ranks";
-    if (cfg_.relax != Relaxation::monte_carlo)
-      throw std::invalid_argument("relaxation = \"" +
-                                  std::string(cfg_.relax == Relaxation::gradient ? "gradient"
-                                              : cfg_.relax == Relaxation::newton ? "newton"
-                                                                                 : "auto") +
-                                  "\" runs on one rank only: relaxation = \"monte-carlo\" runs" + ranks);
-    if (cfg_.polish != PolishMethod::fire && cfg_.polish != PolishMethod::none)
-      throw std::invalid_argument("polish = \"" + std::string(polish_method_name(cfg_.polish)) +
-                                  "\" runs on one rank only: \"fire\" or \"none\" run" + ranks);
     dist_ = distribute(space_, comm, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points, m_);
   } else {
     m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
@@ -286,6 +293,45 @@ std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* e
   }
   times_.energy += timer.seconds();
   return out;
+}
+
+template <class Exec>
+Sizes SolverOn<Exec>::sizes() const {
+  Sizes z;
+  z.bricks = n_bricks_global();
+  z.free_bricks = dist_ ? static_cast<std::size_t>(dist_->n_free) : static_cast<std::size_t>(m_.n_free);
+  z.interfaces = n_interfaces_global();
+  z.colours = dist_ ? dist_->n_colours : static_cast<int>(m_.colour_offset.size()) - 1;
+  z.ranks = dist_ ? dist_->comm.size() : 1;
+  return z;
+}
+
+template <class Exec>
+OutputFields SolverOn<Exec>::output_fields() {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::output_fields");
+  using Kokkos::view_alloc, Kokkos::WithoutInitializing;
+  Field<double> be(view_alloc(space_, WithoutInitializing, "nacre::mc::brick_energy_out"), m_.n_bricks);
+  Field<double> ie(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy_out"), m_.n_interfaces);
+  Field<std::int8_t> is(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state_out"), m_.n_interfaces);
+  brick_energy(space_, m_, be);  // an owned brick's interfaces are all on its rank (the halo)
+  interface_state(space_, m_, ie, is);
+  auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
+  auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
+  auto his = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), is);
+  std::vector<double> bricks, ifaces;  // (index, values...) of what this rank owns
+  for (int k = 0; k < m_.n_bricks; ++k)
+    if (owned_brick(k)) bricks.insert(bricks.end(), {static_cast<double>(global_brick(k)), 0.5 * hbe(k)});
+  for (int i = 0; i < m_.n_interfaces; ++i)
+    if (owned_interface(i))
+      ifaces.insert(ifaces.end(), {static_cast<double>(global_interface(i)), hie(i), static_cast<double>(his(i))});
+  OutputFields o;
+  o.brick_energy = assemble(n_bricks_global(), 1, bricks);
+  const std::vector<double> all = assemble(n_interfaces_global(), 2, ifaces);
+  const std::size_t ni = n_interfaces_global();
+  o.interface_energy.resize(ni), o.interface_state.resize(ni);
+  for (std::size_t i = 0; i < ni; ++i)
+    o.interface_energy[i] = all[2 * i], o.interface_state[i] = static_cast<std::int8_t>(all[2 * i + 1]);
+  return o;
 }
 
 template <class Exec>
@@ -965,6 +1011,12 @@ Backend Solver::backend() const {
 }
 const Model<>& Solver::model() const {
   return on([](const auto& s) -> const Model<>& { return s.model(); });
+}
+Sizes Solver::sizes() const {
+  return on([](const auto& s) { return s.sizes(); });
+}
+OutputFields Solver::output_fields() {
+  return on([](auto& s) { return s.output_fields(); });
 }
 const std::vector<std::pair<std::string, double>>& Solver::presim() const {
   return on([](const auto& s) -> const auto& { return s.presim(); });

@@ -29,6 +29,8 @@ public:
 
   [[nodiscard]] const Exec& space() const { return space_; }
   [[nodiscard]] const Model<>& model() const { return m_; }
+  [[nodiscard]] Sizes sizes() const;
+  [[nodiscard]] OutputFields output_fields();
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
   void set_load(double D);
   [[nodiscard]] double load() const { return D_; }

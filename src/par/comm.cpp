@@ -3,6 +3,7 @@
 #include <nacre/par/comm.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -195,6 +196,13 @@ void process_grid(int size, double width, double height, int dims[2]) {
     if (err < best_err - 1e-12) best_err = err, best = a;
   }
   dims[0] = best, dims[1] = size / best;
+}
+
+void Comm::abort(int code) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1 && mpi_up()) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
 }
 
 }  // namespace nacre::par

@@ -205,6 +205,7 @@ struct Distribution {
   Kokkos::View<std::uint8_t*, MemorySpace> iface_owned;  ///< per model interface: 1 where this rank owns it
   long long n_free = 0;                                  ///< free bricks of the whole specimen
   std::size_t n_interfaces = 0;                          ///< interfaces of the whole specimen
+  int n_colours = 0;                                     ///< colours of the whole specimen's colouring
 
   /// \brief deterministic_sum's combine for a sum of which this rank holds `owned` terms.
   [[nodiscard]] par::Reduce reduce(long long owned) const { return par::Reduce{&comm, owned}; }
@@ -256,6 +257,7 @@ std::unique_ptr<Distribution<MemorySpace>> distribute(const ExecutionSpace& spac
   Kokkos::deep_copy(space, dist->iface_owned, h);
   for (int c : global.colour) dist->n_free += c >= 0;
   dist->n_interfaces = f.size();
+  dist->n_colours = global.n_colours;
   space.fence("nacre::mc::distribute");
   return dist;
 }

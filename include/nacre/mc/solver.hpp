@@ -66,6 +66,20 @@ struct Checkpoint {
   std::vector<double> history;
 };
 
+/// \brief The specimen-wide counts of a run (a rank's model holds only its part).
+struct Sizes {
+  std::size_t bricks = 0, free_bricks = 0, interfaces = 0;
+  int colours = 0;
+  int ranks = 1;  ///< processes the specimen is spread over
+};
+
+/// \brief What a dump shows per brick and per interface, in the specimen's order, on every rank.
+struct OutputFields {
+  std::vector<double> brick_energy;          ///< half of each of the brick's interfaces' energies
+  std::vector<double> interface_energy;      ///< cohesive energy of each interface
+  std::vector<std::int8_t> interface_state;  ///< 0 elastic, 1 softening, 2 ruptured
+};
+
 /// \brief Wall time per phase (fenced), the split of Fig. 2.12.
 struct PhaseTimes {
   double rng = 0, sweep = 0, energy = 0, other = 0, polish = 0;
@@ -96,9 +110,10 @@ public:
   /// \brief Spread over the ranks of `comm` (docs/scaling.md): each rank builds and relaxes its
   /// part of the specimen (owned bricks and a one-brick halo), every rank calls every member in
   /// the same order, and every result is the one-process result, bit for bit. Supported so far:
-  /// relaxation = "monte-carlo" with polish "fire" or "none", colourings other than "fastest";
-  /// checkpoint(), restore() and interface_states() are one-process only (std::invalid_argument
-  /// / std::logic_error otherwise). comm.size() == 1: the one-process solver.
+  /// relaxation = "monte-carlo" (polish "fire" or "none") and "gradient" (FIRE), colourings other
+  /// than "fastest" (std::invalid_argument otherwise). The members that return specimen-wide
+  /// arrays (checkpoint(), interface_states(), output_fields(), poses()) gather them from every
+  /// rank: each rank must call them. comm.size() == 1: the one-process solver.
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log, const par::Comm& comm);
   /// \brief The same on the default backend.
@@ -112,7 +127,10 @@ public:
   /// \brief The backend the solver runs on.
   [[nodiscard]] Backend backend() const;
 
+  /// \brief This process's model (on one of several ranks: its part of the specimen).
   [[nodiscard]] const Model<>& model() const;
+  /// \brief The specimen-wide counts (the model's own on one process).
+  [[nodiscard]] Sizes sizes() const;
   /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
   /// unless the deck asked for colouring = "fastest".
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const;
@@ -131,6 +149,8 @@ public:
   /// `energy` (optional) gets each interface's energy of fracture in the same order: what it
   /// dissipated with damage = "irreversible", its cohesive energy otherwise.
   [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
+  /// \brief Brick energies, interface energies and states of the current state (a dump's fields).
+  [[nodiscard]] OutputFields output_fields();
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
   /// \brief Polish the current state with the deck's method and tolerance (or `method`, and
@@ -211,6 +231,11 @@ private:
   decltype(auto) on(F&& f) const;
   typename detail::SolverImpls<AnySpace>::type impl_;
 };
+
+/// \brief Why the deck's Monte Carlo run cannot be spread over `ranks` MPI ranks (naming the deck
+/// key and what it expects), or "" when it can (the Solver constructor with a Comm throws
+/// std::invalid_argument with this message; the app checks it before it writes anything).
+[[nodiscard]] std::string ranks_refusal(const deck::Deck& d, int ranks);
 
 /// \brief The colouring that colouring = "auto" stands for on this build: "tiles" when the
 /// default execution space runs on the host, "natural" (one brick per thread) on a device.

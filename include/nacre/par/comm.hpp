@@ -59,6 +59,9 @@ public:
   /// \brief Every rank receives every rank's `mine` in rank order.
   [[nodiscard]] std::vector<std::vector<double>> allgather(const std::vector<double>& mine) const;
   void barrier() const;
+  /// \brief End every rank of the run with exit code `code` (MPI_Abort): what a rank that failed
+  /// alone does, since the others would wait for it in the next collective. One process: std::exit.
+  [[noreturn]] void abort(int code) const;
 
 private:
   int rank_ = 0, size_ = 1;

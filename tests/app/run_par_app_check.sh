@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# `mpiexec -n N nacre DECK` (docs/scaling.md): the Monte Carlo run spread over MPI ranks writes the
+# files of the one-process run, bit for bit (tests/app/check_same_run.py: every HDF5 dataset and
+# attribute, steps.csv, r_curve.csv, summary.json but the machine's timings):
+#  1. tests/app/par_mc.toml (irreversible damage, ruptures, tiles, residual test) on 2 and 4 ranks;
+#  2. relaxation = "gradient" (FIRE alone) on 2 ranks;
+#  3. a run stopped at D = 0.016 on 2 ranks continued on 4 (--restart --extend): a checkpoint moves
+#     between rank counts;
+#  4. SIGTERM sent to rank 1 alone: every rank stops after the same cycle (exit 143, the
+#     checkpoint of the last completed step, rank 0's message), and one process continues it to
+#     the uninterrupted run's files;
+#  5. what is not spread over ranks yet is refused before anything is written, naming the deck
+#     key: the default deck (relaxation = "auto", Newton), a [dynamics] deck, `nacre sweep`.
+#   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
+set -uo pipefail
+exe="$1"; src="$2"; work="$3"; mpiexec="$4"; npflag="$5"; shift 5
+flags=("$@")
+rm -rf "$work"; mkdir -p "$work"; cd "$work"
+. "$src/tests/app/checks_lib.sh"
+same() { if python3 "$src/tests/app/check_same_run.py" "$@" > same.txt 2>&1; then ok "$(cat same.txt)"; else bad "$(cat same.txt)"; fi; }
+run_np() { local n="$1"; shift; "$mpiexec" "$npflag" "$n" "${flags[@]}" "$exe" "$@"; }
+deck="$src/tests/app/par_mc.toml"
+
+"$exe" "$deck" -o p1 -q || bad "one process: exit $?"
+for n in 2 4; do
+  if run_np "$n" "$deck" -o "p$n" -q > "p$n.txt" 2>&1; then same p1 "p$n"; else bad "$n ranks: exit $?: $(tail -3 "p$n.txt")"; fi
+done
+grep -q '"ranks": 4' p4/summary.json && ok "summary.json: ranks 4" || bad "summary.json lacks ranks 4"
+
+sed 's/^relaxation = "monte-carlo"/relaxation = "gradient"/' "$deck" > grad.toml
+"$exe" grad.toml -o g1 -q || bad "gradient, one process: exit $?"
+if run_np 2 grad.toml -o g2 -q > g2.txt 2>&1; then same g1 g2; else bad "gradient on 2 ranks: exit $?: $(tail -3 g2.txt)"; fi
+
+sed 's/^final_displacement = 0.028/final_displacement = 0.016/' "$deck" > half.toml
+if run_np 2 half.toml -o h2 -q > h2.txt 2>&1 &&
+   run_np 4 "$deck" -o x4 -q --restart h2/checkpoint.h5 --extend > x4.txt 2>&1; then
+  same p1 x4 --steps-from 5
+else
+  bad "stop on 2 ranks, continue on 4: $(tail -3 h2.txt x4.txt)"
+fi
+
+# SIGTERM to rank 1 only, once step 2's dump is written (the run has 15 steps)
+sed -e 's/^final_displacement = 0.028/final_displacement = 0.06/' -e 's/^DumpInter = 2/DumpInter = 1/' "$deck" > long.toml
+"$exe" long.toml -o l1 -q || bad "long deck, one process: exit $?"
+run_np 2 long.toml -o s2 > s2.txt 2>&1 &
+launcher=$!
+rank1=""
+for _ in $(seq 1 600); do
+  if [ -e s2/dump_00002.h5 ] && [ -z "$rank1" ]; then
+    for p in $(pgrep -f "$exe long.toml"); do
+      tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
+    done
+    [ -n "$rank1" ] && kill -TERM "$rank1"
+  fi
+  kill -0 "$launcher" 2>/dev/null || break
+  sleep 0.05
+done
+wait "$launcher"; rc=$?
+if [ -z "$rank1" ]; then
+  bad "SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
+elif [ "$rc" -ne 0 ] && grep -q "SIGTERM received: stopped after step" s2.txt && [ -e s2/checkpoint.h5 ]; then
+  ok "SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' s2.txt)"
+  if "$exe" long.toml -o s2 -q --restart s2/checkpoint.h5; then same l1 s2; else bad "continue on one process: exit $?"; fi
+else
+  bad "SIGTERM to rank 1: exit $rc: $(tail -4 s2.txt | tr '\n' ' ')"
+fi
+
+expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
+  local pat="$1"; shift
+  rm -rf refused
+  run_np 2 "$@" -o refused > out.txt 2> err.txt; local got=$?
+  if [ "$got" -ne 0 ] && grep -Eq -- "$pat" err.txt && [ ! -e refused ]; then
+    ok "2 ranks $(basename "$1") refused (exit $got): $(grep -E -- "$pat" err.txt | head -1 | head -c 200)"
+  else
+    bad "2 ranks $*: exit $got, $( [ -e refused ] && echo 'output written, ')$(tr '\n' ' ' < err.txt | head -c 300)"
+  fi
+}
+expect_np 'solver.relaxation.*not yet spread over ranks' "$src/inputs/default.toml"
+expect_np '\[dynamics\] decks run on one rank' "$src/tests/app/tiny_dynamic.toml"
+rm -rf refused
+run_np 2 sweep "$src/tests/app/tiny.toml" --set random.seed=1,2 -o refused > out.txt 2> err.txt; got=$?
+[ "$got" -ne 0 ] && grep -q "nacre sweep runs on one rank" err.txt && [ ! -e refused ] && ok "2 ranks sweep refused" \
+  || bad "2 ranks sweep: exit $got $(head -c 300 err.txt)"
+
+[ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
+echo "all MPI app checks passed"
