@@ -83,6 +83,7 @@ struct RunOptions {
   bool quiet = false, tty = false, extend = false, overwrite = false;
   std::string restart;
   std::string backend;  ///< `--backend NAME` ("" = the default space)
+  std::string gpu_aware_mpi = "auto";  ///< `--gpu-aware-mpi auto|on|off` (par::Comm::device_direct)
 };
 
 /// \brief The specimen of a deck, refused (DeckError) when no brick is free.
@@ -405,7 +406,7 @@ int main(int argc, char* argv[]) {
   }
   std::optional<par::Environment> mpi;  // outlives Kokkos (declared before its ScopeGuard)
   if (ranks > 1) mpi.emplace(argc, argv);
-  const par::Comm comm = par::Comm::world();
+  par::Comm comm = par::Comm::world();
   // Every rank reads the same command line, deck and checkpoint: rank 0's messages say it all.
   // The others stay silent until the run (where a failure of one rank alone is printed by it).
   std::optional<Silence> silent;
@@ -450,6 +451,10 @@ int main(int argc, char* argv[]) {
                      ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
                      : std::string();
         });
+    cli.add_option("--gpu-aware-mpi", opt.gpu_aware_mpi,
+                   "on several MPI ranks with the data on a GPU: hand device buffers to MPI (on), stage them "
+                   "through host memory (off), or on where the MPI reports GPU support (auto, the default)")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
     cli.add_flag("--extend", opt.extend,
                  "with --restart: the deck's final_displacement may differ from the checkpoint's run "
                  "(continue a finished run further)");
@@ -524,6 +529,14 @@ int main(int argc, char* argv[]) {
   if (rc >= 0) return rc;
   silent.reset();
   if (comm.rank() != 0) opt.quiet = true;  // rank 0 logs
+  if (comm.size() > 1) {
+    const bool aware = par::mpi_device_aware();
+    comm.set_device_direct(opt.gpu_aware_mpi == "on" || (opt.gpu_aware_mpi == "auto" && aware));
+    if (opt.gpu_aware_mpi == "on" && !aware && comm.rank() == 0 &&
+        !Kokkos::SpaceAccessibility<Kokkos::HostSpace, Kokkos::DefaultExecutionSpace::memory_space>::accessible)
+      std::cerr << "nacre: warning: --gpu-aware-mpi on, but this MPI does not report GPU support; device "
+                   "buffers are handed to it anyway\n";
+  }
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());

@@ -88,6 +88,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["seed"] = d.seed;
   const Backend backend = solver.backend();
   j["ranks"] = z.ranks;
+  if (z.ranks > 1) j["halo_messages"] = z.halo_messages;
   j["threads"] = backend.concurrency();  // per rank
   j["execution_space"] = backend.kokkos_name();
   j["backend"] = backend.name();

@@ -303,6 +303,10 @@ Sizes SolverOn<Exec>::sizes() const {
   z.interfaces = n_interfaces_global();
   z.colours = dist_ ? dist_->n_colours : static_cast<int>(m_.colour_offset.size()) - 1;
   z.ranks = dist_ ? dist_->comm.size() : 1;
+  if (dist_)
+    z.halo_messages = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible ? "host memory"
+                      : dist_->comm.device_direct() ? "device memory, direct (GPU-aware MPI)"
+                                                    : "device memory, staged through host";
   return z;
 }
 

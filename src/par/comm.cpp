@@ -3,6 +3,7 @@
 #include <nacre/par/comm.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -10,6 +11,9 @@
 
 #ifdef NACRE_HAVE_MPI
 #include <mpi.h>
+#if __has_include(<mpi-ext.h>)
+#include <mpi-ext.h>  // Open MPI's extensions: the GPU-awareness queries
+#endif
 #endif
 
 namespace nacre::par {
@@ -35,6 +39,16 @@ bool has_mpi() {
 #else
   return false;
 #endif
+}
+
+bool mpi_device_aware() {
+#if defined(NACRE_HAVE_MPI) && defined(OMPI_HAVE_MPI_EXT_CUDA)
+  if (MPIX_Query_cuda_support() == 1) return true;
+#endif
+#if defined(NACRE_HAVE_MPI) && defined(OMPI_HAVE_MPI_EXT_ROCM)
+  if (MPIX_Query_rocm_support() == 1) return true;
+#endif
+  return false;
 }
 
 Environment::Environment([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
@@ -106,6 +120,30 @@ void Comm::exchange(const std::vector<int>& ranks, const std::vector<std::vector
   for (std::size_t k = 0; k < ranks.size(); ++k)
     check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
                     &req[ranks.size() + k]),
+          "MPI_Isend");
+  check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+#else
+  if (!ranks.empty()) throw std::logic_error("nacre::par::Comm::exchange: neighbours in a one-process build");
+#endif
+}
+
+void Comm::exchange(const std::vector<int>& ranks, [[maybe_unused]] const double* send,
+                    const std::vector<int>& send_off, [[maybe_unused]] double* recv, const std::vector<int>& recv_off,
+                    [[maybe_unused]] int words) const {
+  if (send_off.size() != ranks.size() + 1 || recv_off.size() != ranks.size() + 1)
+    throw std::logic_error("nacre::par::Comm::exchange: one send and one receive range per neighbour");
+#ifdef NACRE_HAVE_MPI
+  if (ranks.empty()) return;
+  std::vector<MPI_Request> req(2 * ranks.size());
+  constexpr int kTag = 17;
+  const auto count = [&](const std::vector<int>& off, std::size_t k) { return (off[k + 1] - off[k]) * words; };
+  for (std::size_t k = 0; k < ranks.size(); ++k)
+    check(MPI_Irecv(recv + static_cast<std::ptrdiff_t>(recv_off[k]) * words, count(recv_off, k), MPI_DOUBLE, ranks[k],
+                    kTag, MPI_COMM_WORLD, &req[k]),
+          "MPI_Irecv");
+  for (std::size_t k = 0; k < ranks.size(); ++k)
+    check(MPI_Isend(send + static_cast<std::ptrdiff_t>(send_off[k]) * words, count(send_off, k), MPI_DOUBLE, ranks[k],
+                    kTag, MPI_COMM_WORLD, &req[ranks.size() + k]),
           "MPI_Isend");
   check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
 #else

@@ -22,7 +22,7 @@ if "--steps-from" in argv:  # (steps.csv: a restart into another directory copie
     del argv[k:k + 2]
 a, b = argv
 fail = []
-MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks"}
+MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_messages"}
 
 
 def rows(path):

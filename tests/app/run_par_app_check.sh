@@ -9,7 +9,8 @@
 #  4. SIGTERM sent to rank 1 alone: every rank stops after the same cycle (exit 143, the
 #     checkpoint of the last completed step, rank 0's message), and one process continues it to
 #     the uninterrupted run's files;
-#  5. what is not spread over ranks yet is refused before anything is written, naming the deck
+#  5. `--gpu-aware-mpi on` (no staging of the halo messages) gives the same bits; a bad value is refused;
+#  6. what is not spread over ranks yet is refused before anything is written, naming the deck
 #     key: the default deck (relaxation = "auto", Newton), a [dynamics] deck, `nacre sweep`.
 #   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
 set -uo pipefail
@@ -26,6 +27,13 @@ for n in 2 4; do
   if run_np "$n" "$deck" -o "p$n" -q > "p$n.txt" 2>&1; then same p1 "p$n"; else bad "$n ranks: exit $?: $(tail -3 "p$n.txt")"; fi
 done
 grep -q '"ranks": 4' p4/summary.json && ok "summary.json: ranks 4" || bad "summary.json lacks ranks 4"
+# the halo messages handed to MPI without staging (host memory here: the switch changes nothing
+# but must not change the bits); a bad value is refused
+if run_np 2 "$deck" -o d2 -q --gpu-aware-mpi on > d2.txt 2>&1; then same p1 d2; else bad "--gpu-aware-mpi on: exit $?"; fi
+rm -rf bad_switch
+run_np 2 "$deck" -o bad_switch --gpu-aware-mpi maybe > out.txt 2> err.txt; got=$?
+[ "$got" -ne 0 ] && grep -q "gpu-aware-mpi" err.txt && [ ! -e bad_switch ] && ok "--gpu-aware-mpi maybe refused (exit $got)" \
+  || bad "--gpu-aware-mpi maybe: exit $got $(head -c 300 err.txt)"
 
 sed 's/^relaxation = "monte-carlo"/relaxation = "gradient"/' "$deck" > grad.toml
 "$exe" grad.toml -o g1 -q || bad "gradient, one process: exit $?"

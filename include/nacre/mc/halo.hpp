@@ -52,14 +52,12 @@ public:
   template <class ExecutionSpace>
   void unpack(const ExecutionSpace& space, const Model<MemorySpace>& m, int colour,
               const std::vector<std::vector<double>>& recv, Field<double, MemorySpace> cache) const;
-  /// \brief pack, Comm::exchange, unpack.
+  /// \brief One colour's round: the pack kernel into the send buffer, the messages straight from
+  /// and into the buffers (host memory, or device memory with comm.device_direct()) or through
+  /// their host mirrors, the unpack kernel and the stale energies. No host vector on the way.
   template <class ExecutionSpace>
   void exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m, int colour,
-                Field<double, MemorySpace> cache = {}) const {
-    auto recv = receive_buffers(colour);
-    comm.exchange(neighbours_, pack(space, m, colour), recv);
-    unpack(space, m, colour, recv, cache);
-  }
+                Field<double, MemorySpace> cache = {}) const;
   /// \brief Bytes one full cycle sends (every colour once).
   [[nodiscard]] long long cycle_bytes() const;
 
@@ -77,6 +75,15 @@ private:
   typename Buffer::host_mirror_type send_host_, recv_host_;
   int n_colours_ = 0;
   [[nodiscard]] const Lists& lists(int colour) const { return lists_.at(static_cast<std::size_t>(colour + 1)); }
+
+public:  // (nvcc: the enclosing function of a device lambda must be public)
+  /// the poses of l's send list into send_buf_ (no fence)
+  template <class ExecutionSpace>
+  void pack_into(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l) const;
+  /// recv_buf_'s poses to l's receive list, the stale cached energies recomputed; fenced
+  template <class ExecutionSpace>
+  void unpack_from(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
+                   Field<double, MemorySpace> cache) const;
 };
 
 template <class MemorySpace>
@@ -141,19 +148,67 @@ PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const par::Decompos
 
 template <class MemorySpace>
 template <class ExecutionSpace>
-std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space, const Model<MemorySpace>& m,
-                                                             int colour) const {
-  const Lists& l = lists(colour);
+void PoseHalo<MemorySpace>::pack_into(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l) const {
   const int n = static_cast<int>(l.send.extent(0));
   const auto buf = Kokkos::subview(send_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
-  const auto h = Kokkos::subview(send_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
   auto pose = m.pose;
   auto idx = l.send;
   Kokkos::parallel_for(
       "nacre::mc::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
         for (int w = 0; w < kPoseWords; ++w) buf(k, w) = pose(idx(k), w);
       });
-  Kokkos::deep_copy(space, h, buf);
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+void PoseHalo<MemorySpace>::unpack_from(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
+                                        Field<double, MemorySpace> cache) const {
+  const int n = static_cast<int>(l.recv.extent(0));
+  const auto buf = Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
+  auto pose = m.pose;
+  auto idx = l.recv;
+  Kokkos::parallel_for(
+      "nacre::mc::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        for (int w = 0; w < kPoseWords; ++w) pose(idx(k), w) = buf(k, w);
+      });
+  if (cache.data())
+    interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
+                       static_cast<int>(l.stale.extent(0)));
+  space.fence("nacre::mc::halo_unpack");  // the buffers are reused by the next exchange
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+void PoseHalo<MemorySpace>::exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m,
+                                     int colour, Field<double, MemorySpace> cache) const {
+  const Lists& l = lists(colour);
+  const int ns = static_cast<int>(l.send.extent(0)), nr = static_cast<int>(l.recv.extent(0));
+  pack_into(space, m, l);
+  // Host memory goes to MPI as it is; device memory too where the MPI is GPU-aware
+  // (comm.device_direct()), else through the host mirrors (send_host_ is send_buf_ on the host).
+  constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
+  const bool direct = host || comm.device_direct();
+  if (!direct)
+    Kokkos::deep_copy(space, Kokkos::subview(send_host_, Kokkos::make_pair(0, ns), Kokkos::ALL),
+                      Kokkos::subview(send_buf_, Kokkos::make_pair(0, ns), Kokkos::ALL));
+  space.fence("nacre::mc::halo_pack");  // MPI reads the buffer
+  comm.exchange(neighbours_, direct ? send_buf_.data() : send_host_.data(), l.send_off,
+                direct ? recv_buf_.data() : recv_host_.data(), l.recv_off, kPoseWords);
+  if (!direct)
+    Kokkos::deep_copy(space, Kokkos::subview(recv_buf_, Kokkos::make_pair(0, nr), Kokkos::ALL),
+                      Kokkos::subview(recv_host_, Kokkos::make_pair(0, nr), Kokkos::ALL));
+  unpack_from(space, m, l, cache);
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpace& space, const Model<MemorySpace>& m,
+                                                             int colour) const {
+  const Lists& l = lists(colour);
+  const int n = static_cast<int>(l.send.extent(0));
+  pack_into(space, m, l);
+  const auto h = Kokkos::subview(send_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
+  Kokkos::deep_copy(space, h, Kokkos::subview(send_buf_, Kokkos::make_pair(0, n), Kokkos::ALL));
   space.fence("nacre::mc::halo_pack");
   std::vector<std::vector<double>> out(neighbours_.size());
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
@@ -178,21 +233,11 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<Memo
                                    Field<double, MemorySpace> cache) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.recv.extent(0));
-  const auto buf = Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
   const auto h = Kokkos::subview(recv_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
     std::copy(recv[q].begin(), recv[q].end(), h.data() + static_cast<std::size_t>(l.recv_off[q]) * kPoseWords);
-  Kokkos::deep_copy(space, buf, h);
-  auto pose = m.pose;
-  auto idx = l.recv;
-  Kokkos::parallel_for(
-      "nacre::mc::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
-        for (int w = 0; w < kPoseWords; ++w) pose(idx(k), w) = buf(k, w);
-      });
-  if (cache.data())
-    interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
-                       static_cast<int>(l.stale.extent(0)));
-  space.fence("nacre::mc::halo_unpack");  // the buffers are reused by the next exchange
+  Kokkos::deep_copy(space, Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL), h);
+  unpack_from(space, m, l, cache);
 }
 
 /// \brief A Monte Carlo solver's share of a specimen spread over the ranks of `comm` (mc::Solver

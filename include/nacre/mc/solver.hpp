@@ -15,6 +15,7 @@
 #include <functional>
 #include <optional>
 #include <iosfwd>
+#include <string>
 #include <memory>
 #include <variant>
 
@@ -71,6 +72,9 @@ struct Sizes {
   std::size_t bricks = 0, free_bricks = 0, interfaces = 0;
   int colours = 0;
   int ranks = 1;  ///< processes the specimen is spread over
+  /// how halo messages travel on several ranks: "host memory", "device memory, direct (GPU-aware
+  /// MPI)" or "device memory, staged through host"; "" on one process
+  std::string halo_messages;
 };
 
 /// \brief What a dump shows per brick and per interface, in the specimen's order, on every rank.

@@ -16,6 +16,11 @@ namespace nacre::par {
 /// \brief Whether this build has MPI.
 [[nodiscard]] bool has_mpi();
 
+/// \brief Whether this MPI accepts device (GPU) memory in its calls: Open MPI's run-time query
+/// (MPIX_Query_cuda_support / MPIX_Query_rocm_support) where its extensions say it has one; false
+/// where the MPI cannot tell (then device data is staged through host memory unless asked).
+[[nodiscard]] bool mpi_device_aware();
+
 /// \brief MPI for the life of the object (MPI_Init_thread with funneled threads when built with
 /// MPI and not yet initialised; MPI_Finalize at the end if this object initialised it).
 class Environment {
@@ -53,6 +58,17 @@ public:
   /// exchanges lists the other (the halo relation is symmetric).
   void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
                 std::vector<std::vector<double>>& recv) const;
+  /// \brief The same round from two contiguous buffers: neighbour k's message is records
+  /// [send_off[k], send_off[k+1]) of `words` doubles each, and the reply lands at recv_off[k].
+  /// The pointers may be device memory where device_direct() (a GPU-aware MPI).
+  void exchange(const std::vector<int>& ranks, const double* send, const std::vector<int>& send_off, double* recv,
+                const std::vector<int>& recv_off, int words) const;
+
+  /// \brief Device buffers go to MPI as they are (a GPU-aware MPI) instead of through a host
+  /// copy: `nacre --gpu-aware-mpi on|off|auto` (auto: mpi_device_aware()). Host data never needs
+  /// staging, whatever this says.
+  [[nodiscard]] bool device_direct() const { return device_direct_; }
+  void set_device_direct(bool on) { device_direct_ = on; }
   /// \brief Rank 0 receives every rank's `mine` in rank order (others get an empty vector).
   [[nodiscard]] std::vector<std::vector<double>> gather(const std::vector<double>& mine) const;
   [[nodiscard]] std::vector<std::vector<long long>> gather(const std::vector<long long>& mine) const;
@@ -65,6 +81,7 @@ public:
 
 private:
   int rank_ = 0, size_ = 1;
+  bool device_direct_ = false;
 };
 
 /// \brief deterministic_sum's combine for a sum shared by the ranks of `comm`: each rank sums its
