@@ -61,11 +61,13 @@ public:
   /// \brief Bytes one full cycle sends (every colour once).
   [[nodiscard]] long long cycle_bytes() const;
 
-private:
+  /// (public: nvcc names it in the device lambdas of pack_into / unpack_from)
   struct Lists {
     Kokkos::View<int*, MemorySpace> send, recv, stale;  ///< sweep indices (neighbours concatenated); interfaces
     std::vector<int> send_off, recv_off;                ///< per neighbour: [off[k], off[k+1])
   };
+
+private:
   std::vector<int> neighbours_;
   std::vector<Lists> lists_;  ///< [colour + 1]: 0 = every colour
   /// message buffers, allocated once for the largest list (every colour: list 0) and reused by
