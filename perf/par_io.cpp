@@ -54,7 +54,7 @@ int main(int argc, char* argv[]) {
     d.solver.relaxation = "monte-carlo", d.solver.polish = "fire", d.solver.colouring = "natural";
     d.output.directory = dir + "_" + std::to_string(comm.size());
     auto t = Clock::now();
-    const geometry::Specimen s = geometry::build_specimen(d.geometry);
+    geometry::Specimen s = geometry::build_specimen(d.geometry);
     const geometry::Interfaces f = geometry::find_interfaces(s, d.geometry);
     const double t_geometry = comm.max(since(t));
     t = Clock::now();

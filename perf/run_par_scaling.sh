@@ -8,7 +8,7 @@
 set -euo pipefail
 out=${1:-perf/results/par}
 bin=${NACRE_BUILD:-build/openmp}/perf/nacre_perf_par
-[ -x "$bin" ] || { echo "run_par_scaling.sh: $bin not built (cmake --build build/openmp --target nacre_perf_par)" >&2; exit 2; }
+[ -x "$bin" ] || { echo "run_par_scaling.sh: $bin not built (cmake --build build/openmp --target nacre_perf_par nacre_perf_par_io)" >&2; exit 2; }
 mkdir -p "$out"
 rm -f "$out/strong.csv" "$out/weak.csv" "$out/halo.csv"
 # Open MPI refuses root without these; shared memory between ranks, no TCP probing
@@ -20,7 +20,13 @@ done
 for np in 1 2 4; do
   mpiexec -n "$np" --oversubscribe "$bin" --per-rank --bricks 25000 --cycles 10 --check --csv "$out/weak.csv"
 done
+# the outputs: gathering a 1M-brick run's dump and checkpoint to rank 0 against writing them
+io_bin=${NACRE_BUILD:-build/openmp}/perf/nacre_perf_par_io
+rm -f "$out/io.csv"
+for np in 1 2; do
+  mpiexec -n "$np" --oversubscribe "$io_bin" --bricks 1000000 --repeat 3 --csv "$out/io.csv" --dir "$out/io_scratch"
+done
 "$bin" --model-only --bricks 1000000 --ranks 1,4,16,64,256,1024 --csv "$out/halo.csv"
 python3 perf/par_model.py "$out"
 { lscpu | grep -E '^Model name|^CPU\(s\)' ; mpiexec --version | head -1; } > "$out/machine.txt"
-echo "run_par_scaling.sh: wrote $out/{strong,weak,halo}.csv"
+echo "run_par_scaling.sh: wrote $out/{strong,weak,halo,io}.csv"
