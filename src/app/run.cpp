@@ -226,7 +226,8 @@ private:
   }
 
   void dump(int step) {
-    io::Snapshot snap = mc::snapshot(*solver_, specimen_, interfaces_, step);
+    io::Snapshot snap = mc::snapshot(*solver_, specimen_, interfaces_, step);  // (gathers: every rank)
+    if (!writer_) return;                                                      // rank 0 writes
     // the crack from the states the snapshot holds (no second evaluation of the interfaces)
     const auto state = std::find_if(snap.fields.begin(), snap.fields.end(), [](const io::Field& f) {
       return f.centre == io::Centre::interface && f.name == "state";
@@ -234,7 +235,6 @@ private:
     if (state == snap.fields.end()) throw std::logic_error("mc::snapshot holds no interface state");
     snap.fields.push_back(
         {io::Centre::interface, "crack", crack_->crack_mask(std::get<std::vector<std::int8_t>>(state->data)), 1});
-    if (!writer_) return;  // another rank's: rank 0 writes
     writer_->dump(snap);
     writer_->checkpoint(last_);
   }

@@ -35,14 +35,18 @@ std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack) {
 
 io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f, int step) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::snapshot");
-  std::vector<double> x, y, t;
-  solver.poses(x, y, t);  // specimen-wide on every rank (gathered when spread over ranks)
-  OutputFields of = solver.output_fields();
+  OutputFields of = solver.output_fields();  // gathered to rank 0 when spread over ranks
+  io::Snapshot snap;
+  snap.step = step;
+  if (of.x.size() != s.size()) return snap;  // another rank's: no fields (rank 0 writes)
+  std::vector<double>&x = of.x, &y = of.y, &t = of.theta;
   const std::size_t n = s.size(), ni = f.size();
   std::vector<double> pts(2 * s.vx.size()), ipts(4 * ni);
+  std::vector<kinematics::Frame> frame(n);  // each brick's rotation once, not once per point
+  for (std::size_t b = 0; b < n; ++b) frame[b] = kinematics::make_frame(kinematics::Pose{x[b], y[b], t[b]});
   auto moved = [&](std::size_t b, double px, double py, double& ox, double& oy) {
     double dx, dy;
-    kinematics::point_displacement(kinematics::Pose{x[b], y[b], t[b]}, px - s.cx[b], py - s.cy[b], dx, dy);
+    kinematics::point_displacement(frame[b], px - s.cx[b], py - s.cy[b], dx, dy);
     ox = px + dx, oy = py + dy;
   };
   for (std::size_t b = 0; b < n; ++b)
@@ -52,8 +56,6 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
     moved(a, s.cx[a] + f.ra0x[i], s.cy[a] + f.ra0y[i], ipts[4 * i], ipts[4 * i + 1]);
     moved(a, s.cx[a] + f.ra1x[i], s.cy[a] + f.ra1y[i], ipts[4 * i + 2], ipts[4 * i + 3]);
   }
-  io::Snapshot snap;
-  snap.step = step;
   snap.time = solver.load();
   snap.reals["displacement"] = solver.load();
   snap.reals["energy"] = solver.tracked_energy();

@@ -98,7 +98,9 @@ private:
   [[nodiscard]] std::size_t n_interfaces_global() const { return dist_ ? dist_->n_interfaces : m_.iface_perm.size(); }
   /// the array of `width` values per item whose owned items' (index, values...) records `mine`
   /// holds on each rank: on every rank, in the specimen's order (zeros where no rank has an item)
-  [[nodiscard]] std::vector<double> assemble(std::size_t n, int width, const std::vector<double>& mine) const;
+  /// (to_root: rank 0 alone gets the array, the others an empty one; a dump needs no more)
+  [[nodiscard]] std::vector<double> assemble(std::size_t n, int width, const std::vector<double>& mine,
+                                             bool to_root = false) const;
   /// every brick's (x, y, theta), specimen order
   [[nodiscard]] std::vector<double> checkpoint_poses() const;
   void allocate_work();

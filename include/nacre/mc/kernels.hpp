@@ -95,6 +95,25 @@ void brick_energy(const ExecutionSpace& space, const Model<MemorySpace>& m, Fiel
       });
 }
 
+/// \brief The same from each interface's energy already evaluated (`iface_energy`, e.g. by
+/// interface_state): each brick adds its interfaces' values in the same order, so the bits are
+/// brick_energy's, for one evaluation per interface instead of two.
+template <class ExecutionSpace, class MemorySpace>
+void brick_energy(const ExecutionSpace& space, const Model<MemorySpace>& m, Field<double, MemorySpace> full,
+                  Kokkos::View<const double*, MemorySpace> iface_energy) {
+  check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(full.extent(0) >= std::size_t(m.n_bricks), "brick_energy: a value per brick");
+  NACRE_ASSERT(iface_energy.extent(0) >= std::size_t(m.n_interfaces), "brick_energy: a value per interface");
+  auto off = m.adj_offset, adj = m.adj_iface;
+  Kokkos::parallel_for(
+      "nacre::mc::brick_energy_from_interfaces", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_bricks),
+      KOKKOS_LAMBDA(const int b) {
+        double e = 0;
+        for (int j = off(b); j < off(b + 1); ++j) e += iface_energy(adj(j));
+        full(b) = e;
+      });
+}
+
 /// \brief Per-interface energy and state (0 elastic, 1 plastic/softening somewhere, 2 ruptured);
 /// either output may be an empty View. Returns the number of ruptured interfaces.
 template <class ExecutionSpace, class MemorySpace>

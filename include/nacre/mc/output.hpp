@@ -17,7 +17,8 @@ namespace nacre::mc {
 [[nodiscard]] std::string csv_row(const StepRecord& r, const fracture::CrackReading& crack);
 
 /// \brief Poses, displaced polygon vertices, brick energies (half of each interface to each
-/// side), interface ends, energies and states, in original order.
+/// side), interface ends, energies and states, in original order. Spread over ranks, every rank
+/// calls it (the fields are gathered to rank 0, the writer); the others get a snapshot without fields.
 [[nodiscard]] io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometry::Interfaces& f,
                                     int step);
 

@@ -77,8 +77,10 @@ struct Sizes {
   std::string halo_messages;
 };
 
-/// \brief What a dump shows per brick and per interface, in the specimen's order, on every rank.
+/// \brief What a dump shows per brick and per interface, in the specimen's order: on one process,
+/// or on rank 0 of several (the others get empty arrays: only rank 0 writes).
 struct OutputFields {
+  std::vector<double> x, y, theta;           ///< poses
   std::vector<double> brick_energy;          ///< half of each of the brick's interfaces' energies
   std::vector<double> interface_energy;      ///< cohesive energy of each interface
   std::vector<std::int8_t> interface_state;  ///< 0 elastic, 1 softening, 2 ruptured
@@ -116,8 +118,8 @@ public:
   /// the same order, and every result is the one-process result, bit for bit. Supported so far:
   /// relaxation = "monte-carlo" (polish "fire" or "none") and "gradient" (FIRE), colourings other
   /// than "fastest" (std::invalid_argument otherwise). The members that return specimen-wide
-  /// arrays (checkpoint(), interface_states(), output_fields(), poses()) gather them from every
-  /// rank: each rank must call them. comm.size() == 1: the one-process solver.
+  /// arrays (checkpoint(), interface_states(), poses(); output_fields() to rank 0 alone) gather
+  /// them from every rank: each rank must call them. comm.size() == 1: the one-process solver.
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log, const par::Comm& comm);
   /// \brief The same on the default backend.
@@ -153,7 +155,8 @@ public:
   /// `energy` (optional) gets each interface's energy of fracture in the same order: what it
   /// dissipated with damage = "irreversible", its cohesive energy otherwise.
   [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
-  /// \brief Brick energies, interface energies and states of the current state (a dump's fields).
+  /// \brief Poses, brick energies, interface energies and states of the current state (a dump's
+  /// fields), gathered to rank 0 (empty on the other ranks).
   [[nodiscard]] OutputFields output_fields();
   /// \brief Residual of the current state (exact gradient; see gradient.hpp for the scale).
   double residual();
