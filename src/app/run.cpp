@@ -172,11 +172,21 @@ public:
     if (solver_->interrupted()) {
       // The write in progress finished before the flag was seen; the step in progress is dropped
       // and the checkpoint holds the last completed one (a restart reproduces the uninterrupted run).
-      if (!writer_) return 128 + signal_;
-      writer_->checkpoint(last_);
-      return session_.stopped_by_signal(signal_, "step " + std::to_string(last_.integer("step")), *writer_);
+      int rc = 128 + signal_;
+      if (writer_) {
+        writer_->checkpoint(last_);
+        rc = session_.stopped_by_signal(signal_, "step " + std::to_string(last_.integer("step")), *writer_);
+      }
+      // rank 0 has written and said so before any rank exits non-zero (a launcher may then end
+      // the others at once)
+      comm_.barrier();
+      return rc;
     }
-    if (solver_->failed()) return not_converged();
+    if (solver_->failed()) {
+      const int rc = not_converged();
+      comm_.barrier();  // (as above)
+      return rc;
+    }
     const fracture::CrackReading crack = read_crack();  // gathered: every rank
     if (!writer_) return 0;
     writer_->summary(
@@ -342,13 +352,6 @@ int launched_ranks() {
   return 1;
 }
 
-/// This process's rank among them, from the same environment (0 when not under a launcher).
-int launched_rank() {
-  for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "MV2_COMM_WORLD_RANK"})
-    if (const char* s = std::getenv(v)) return std::atoi(s);
-  return 0;
-}
-
 /// Standard output and error discarded for the life of the object (the ranks other than 0 while
 /// the command line, deck and checkpoint are validated: rank 0 prints the one message).
 class Silence {
@@ -397,11 +400,11 @@ int main(int argc, char* argv[]) {
   const int ranks = launched_ranks();
   const bool subcommand = argc > 1 && (std::string_view(argv[1]) == "sweep" || std::string_view(argv[1]) == "bench");
   if (ranks > 1 && (!par::has_mpi() || subcommand)) {
-    if (launched_rank() == 0)
-      std::cerr << "nacre: error: started as one of " << ranks << " MPI ranks; "
-                << (subcommand ? "nacre " + std::string(argv[1]) + " runs on one rank"
-                               : std::string("this nacre was built without MPI (configure with -DNACRE_ENABLE_MPI=ON)"))
-                << ". Run it without mpirun / mpiexec.\n";
+    // every rank says it (the launcher may end rank 0 as soon as another exits non-zero)
+    std::cerr << "nacre: error: started as one of " << ranks << " MPI ranks; "
+              << (subcommand ? "nacre " + std::string(argv[1]) + " runs on one rank"
+                             : std::string("this nacre was built without MPI (configure with -DNACRE_ENABLE_MPI=ON)"))
+              << ". Run it without mpirun / mpiexec.\n";
     return 2;
   }
   std::optional<par::Environment> mpi;  // outlives Kokkos (declared before its ScopeGuard)

@@ -2,7 +2,8 @@
 # `mpiexec -n N nacre DECK` (docs/scaling.md): the Monte Carlo run spread over MPI ranks writes the
 # files of the one-process run, bit for bit (tests/app/check_same_run.py: every HDF5 dataset and
 # attribute, steps.csv, r_curve.csv, summary.json but the machine's timings):
-#  1. tests/app/par_mc.toml (irreversible damage, ruptures, tiles, residual test) on 2 and 4 ranks;
+#  1. tests/app/par_mc.toml (irreversible damage, ruptures, tiles, residual test) on 1 (under the
+#     launcher), 2 and 4 ranks;
 #  2. relaxation = "gradient" (FIRE alone) on 2 ranks;
 #  3. a run stopped at D = 0.016 on 2 ranks continued on 4 (--restart --extend): a checkpoint moves
 #     between rank counts;
@@ -22,14 +23,14 @@ same() { if python3 "$src/tests/app/check_same_run.py" "$@" > same.txt 2>&1; the
 run_np() { local n="$1"; shift; "$mpiexec" "$npflag" "$n" "${flags[@]}" "$exe" "$@"; }
 deck="$src/tests/app/par_mc.toml"
 
-"$exe" "$deck" -o p1 -q || bad "one process: exit $?"
-for n in 2 4; do
-  if run_np "$n" "$deck" -o "p$n" -q > "p$n.txt" 2>&1; then same p1 "p$n"; else bad "$n ranks: exit $?: $(tail -3 "p$n.txt")"; fi
+"$exe" "$deck" -o one -q || bad "one process: exit $?"
+for n in 1 2 4; do
+  if run_np "$n" "$deck" -o "p$n" -q > "p$n.txt" 2>&1; then same one "p$n"; else bad "$n ranks: exit $?: $(tail -3 "p$n.txt")"; fi
 done
 grep -q '"ranks": 4' p4/summary.json && ok "summary.json: ranks 4" || bad "summary.json lacks ranks 4"
 # the halo messages handed to MPI without staging (host memory here: the switch changes nothing
 # but must not change the bits); a bad value is refused
-if run_np 2 "$deck" -o d2 -q --gpu-aware-mpi on > d2.txt 2>&1; then same p1 d2; else bad "--gpu-aware-mpi on: exit $?"; fi
+if run_np 2 "$deck" -o d2 -q --gpu-aware-mpi on > d2.txt 2>&1; then same one d2; else bad "--gpu-aware-mpi on: exit $?"; fi
 rm -rf bad_switch
 run_np 2 "$deck" -o bad_switch --gpu-aware-mpi maybe > out.txt 2> err.txt; got=$?
 [ "$got" -ne 0 ] && grep -q "gpu-aware-mpi" err.txt && [ ! -e bad_switch ] && ok "--gpu-aware-mpi maybe refused (exit $got)" \
@@ -42,7 +43,7 @@ if run_np 2 grad.toml -o g2 -q > g2.txt 2>&1; then same g1 g2; else bad "gradien
 sed 's/^final_displacement = 0.028/final_displacement = 0.016/' "$deck" > half.toml
 if run_np 2 half.toml -o h2 -q > h2.txt 2>&1 &&
    run_np 4 "$deck" -o x4 -q --restart h2/checkpoint.h5 --extend > x4.txt 2>&1; then
-  same p1 x4 --steps-from 5
+  same one x4 --steps-from 5
 else
   bad "stop on 2 ranks, continue on 4: $(tail -3 h2.txt x4.txt)"
 fi
