@@ -33,6 +33,7 @@
 #include <iostream>
 #include <new>
 #include <optional>
+#include <sstream>
 #include <streambuf>
 #include <string_view>
 #include <unistd.h>
@@ -352,22 +353,22 @@ int launched_ranks() {
   return 1;
 }
 
-/// Standard output and error discarded for the life of the object (the ranks other than 0 while
-/// the command line, deck and checkpoint are validated: rank 0 prints the one message).
+/// Standard output and error held back for the life of the object (the ranks other than 0 while
+/// the command line, deck and checkpoint are validated: rank 0 prints the one message), kept in
+/// text() for the case where this rank alone refused.
 class Silence {
 public:
-  Silence() : out_(std::cout.rdbuf(&null_)), err_(std::cerr.rdbuf(&null_)) {}
+  Silence() : out_(std::cout.rdbuf(held_.rdbuf())), err_(std::cerr.rdbuf(held_.rdbuf())) {}
   ~Silence() {
     std::cout.rdbuf(out_);
     std::cerr.rdbuf(err_);
   }
   Silence(const Silence&) = delete;
   Silence& operator=(const Silence&) = delete;
+  [[nodiscard]] std::string text() const { return held_.str(); }
 
 private:
-  struct Null : std::streambuf {
-    int overflow(int c) override { return traits_type::not_eof(c); }
-  } null_;
+  std::ostringstream held_;
   std::streambuf *out_, *err_;
 };
 
@@ -527,8 +528,19 @@ int main(int argc, char* argv[]) {
     }
     return -1;
   };
-  int rc = prepare();
-  if (comm.size() > 1) rc = static_cast<int>(comm.max(rc));
+  const int mine = prepare();
+  int rc = mine;
+  if (comm.size() > 1) {
+    rc = static_cast<int>(comm.max(mine));
+    // a refusal of another rank alone (a file it cannot read): it says why, rank 0 could not
+    const int root_rc = static_cast<int>(comm.max(comm.rank() == 0 ? mine : -1));
+    if (rc >= 0 && root_rc != rc && silent && mine == rc) {
+      const std::string held = silent->text();
+      silent.reset();
+      std::cerr << "nacre: rank " << comm.rank() << " of " << comm.size() << ": " << held;
+    }
+    comm.barrier();  // printed before any rank exits
+  }
   if (rc >= 0) return rc;
   silent.reset();
   if (comm.rank() != 0) opt.quiet = true;  // rank 0 logs
@@ -550,11 +562,11 @@ int main(int argc, char* argv[]) {
       return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
                               opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)});
     return run_deck(d, opt, comm);
-  } catch (const deck::DeckError& e) {  // (every rank reads the same deck: rank 0 tells)
-    if (comm.rank() == 0) std::cerr << "\nnacre: error: " << e.what() << "\n";
+  } catch (const deck::DeckError& e) {  // (on several ranks each says it: an abort may end rank 0 first)
+    std::cerr << "\nnacre: error" << on_rank(comm) << ": " << e.what() << "\n";
     return failed(comm, 2);
   } catch (const io::CheckpointError& e) {
-    if (comm.rank() == 0) std::cerr << "\nnacre: error: cannot restart: " << e.what() << "\n";
+    std::cerr << "\nnacre: error" << on_rank(comm) << ": cannot restart: " << e.what() << "\n";
     return failed(comm, 2);
   } catch (const std::bad_alloc&) {
     std::cerr << "\nnacre: error" << on_rank(comm)

@@ -35,10 +35,22 @@ def same_csv(name, drop=("seconds",)):
     if len(ra) != len(rb):
         fail.append(f"{name}: {len(ra)} rows against {len(rb)}")
         return
+    if ra and set(ra[0]) != set(rb[0]):
+        fail.append(f"{name}: columns {sorted(set(ra[0]) ^ set(rb[0]))} in one only")
     for i, (x, y) in enumerate(zip(ra, rb)):
         for k in x:
             if k not in drop and x[k] != y.get(k):
                 fail.append(f"{name} row {i + 1} {k}: {x[k]} against {y.get(k)}")
+
+
+def same_bits(x, y):
+    """Bit for bit: -0.0 differs from 0.0, a NaN equals the same NaN."""
+    x, y = np.asarray(x), np.asarray(y)
+    if x.dtype != y.dtype or x.shape != y.shape:
+        return False
+    if x.dtype.kind in "OSU":  # strings
+        return bool(np.all(x == y))
+    return x.tobytes() == y.tobytes()
 
 
 def same_h5(name):
@@ -57,15 +69,17 @@ def same_h5(name):
             if obj not in fb:
                 continue
             xa, xb = fa[obj], fb[obj]
+            if set(xa.attrs) != set(xb.attrs):
+                fail.append(f"{name}:{obj}: attributes {sorted(set(xa.attrs) ^ set(xb.attrs))} in one only")
             for k in xa.attrs:
                 va, vb = xa.attrs[k], xb.attrs.get(k)
-                if k in ("backend",):
+                if k in ("backend",) or vb is None:
                     continue
-                if not np.array_equal(np.asarray(va), np.asarray(vb)):
+                if not same_bits(va, vb):
                     fail.append(f"{name}:{obj} attribute {k}: {va} against {vb}")
             if isinstance(xa, h5py.Dataset):
                 da, db = xa[()], xb[()]
-                if not (np.shape(da) == np.shape(db) and np.array_equal(da, db)):
+                if not same_bits(da, db):
                     diff = "shapes differ" if np.shape(da) != np.shape(db) else \
                         f"largest difference {np.max(np.abs(np.asarray(da, float) - np.asarray(db, float)))}"
                     fail.append(f"{name}:{obj}: {diff}")
@@ -79,8 +93,13 @@ for k in sorted(set(sa) | set(sb)):
     if k not in MACHINE and sa.get(k) != sb.get(k):
         fail.append(f"summary.json {k}: {sa.get(k)} against {sb.get(k)}")
 names = sorted(n for n in os.listdir(a) if n.endswith(".h5"))
+names_b = sorted(n for n in os.listdir(b) if n.endswith(".h5"))
 if steps_from:  # a restarted run's dumps start where it restarted
     names = [n for n in names if not n.startswith("dump_") or int(n[5:10]) >= steps_from]
+if steps_from:
+    names_b = [n for n in names_b if not n.startswith("dump_") or int(n[5:10]) >= steps_from]
+if names != names_b:
+    fail.append(f"HDF5 files {sorted(set(names) ^ set(names_b))} in one only")
 for n in names:
     same_h5(n)
 if len(names) < 3:

@@ -11,7 +11,8 @@
 #     checkpoint of the last completed step, rank 0's message), and one process continues it to
 #     the uninterrupted run's files;
 #  5. `--gpu-aware-mpi on` (no staging of the halo messages) gives the same bits; a bad value is refused;
-#  6. what is not spread over ranks yet is refused before anything is written, naming the deck
+#  6. a restart from another deck's checkpoint, and a refusal of rank 1 alone, say why (exit 2);
+#  7. what is not spread over ranks yet is refused before anything is written, naming the deck
 #     key: the default deck (relaxation = "auto", Newton), a [dynamics] deck, `nacre sweep`.
 #   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
 set -uo pipefail
@@ -51,12 +52,13 @@ fi
 # SIGTERM to rank 1 only, once step 2's dump is written (the run has 15 steps)
 sed -e 's/^final_displacement = 0.028/final_displacement = 0.06/' -e 's/^DumpInter = 2/DumpInter = 1/' "$deck" > long.toml
 "$exe" long.toml -o l1 -q || bad "long deck, one process: exit $?"
-run_np 2 long.toml -o s2 > s2.txt 2>&1 &
+# (a deadlock would end here at 240 s with the launcher's exit 124, not at ctest's limit)
+timeout 240 "$mpiexec" "$npflag" 2 "${flags[@]}" "$exe" long.toml -o s2 > s2.txt 2>&1 &
 launcher=$!
 rank1=""
 for _ in $(seq 1 600); do
   if [ -e s2/dump_00002.h5 ] && [ -z "$rank1" ]; then
-    for p in $(pgrep -f "$exe long.toml"); do
+    for p in $(pgrep -f -- "long.toml -o s2"); do
       tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
     done
     [ -n "$rank1" ] && kill -TERM "$rank1"
@@ -67,7 +69,7 @@ done
 wait "$launcher"; rc=$?
 if [ -z "$rank1" ]; then
   bad "SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
-elif [ "$rc" -ne 0 ] && grep -q "SIGTERM received: stopped after step" s2.txt && [ -e s2/checkpoint.h5 ]; then
+elif [ "$rc" -eq 143 ] && grep -q "SIGTERM received: stopped after step" s2.txt && [ -e s2/checkpoint.h5 ]; then
   ok "SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' s2.txt)"
   if "$exe" long.toml -o s2 -q --restart s2/checkpoint.h5; then same l1 s2; else bad "continue on one process: exit $?"; fi
 else
@@ -78,13 +80,25 @@ expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
   local pat="$1"; shift
   rm -rf refused
   run_np 2 "$@" -o refused > out.txt 2> err.txt; local got=$?
-  if [ "$got" -ne 0 ] && grep -Eq -- "$pat" err.txt && [ ! -e refused ]; then
-    ok "2 ranks $(basename "$1") refused (exit $got): $(grep -E -- "$pat" err.txt | head -1 | head -c 200)"
+  if [ "$got" -ne 0 ] && grep -aEq -- "$pat" err.txt && [ ! -e refused ]; then
+    ok "2 ranks $(basename "$1") refused (exit $got): $(grep -aE -- "$pat" err.txt | head -1 | head -c 200)"
   else
     bad "2 ranks $*: exit $got, $( [ -e refused ] && echo 'output written, ')$(tr '\n' ' ' < err.txt | head -c 300)"
   fi
 }
 expect_np 'solver.relaxation.*not yet spread over ranks' "$src/inputs/default.toml"
+# a checkpoint of another deck, found after Kokkos started: every rank says why before the abort
+expect_np 'cannot restart' "$deck" --restart g1/checkpoint.h5
+# a refusal of rank 1 alone (here: its deck does not exist): rank 1 says why, nobody runs
+rm -rf refused
+"$mpiexec" "$npflag" 2 "${flags[@]}" bash -c \
+  'r=${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}; [ "$r" = 1 ] && d=missing.toml || d="$2"; exec "$1" "$d" -o refused' \
+  _ "$exe" "$deck" > out.txt 2> err.txt; got=$?
+if [ "$got" -eq 2 ] && grep -aq "rank 1 of 2" err.txt && grep -aq "missing.toml" err.txt && [ ! -e refused ]; then
+  ok "a refusal of rank 1 alone: exit 2, $(grep -m1 'rank 1 of 2' err.txt | head -c 160)"
+else
+  bad "a refusal of rank 1 alone: exit $got, $( [ -e refused ] && echo 'output written, ')$(tr '\n' ' ' < err.txt | head -c 300)"
+fi
 expect_np '\[dynamics\] decks run on one rank' "$src/tests/app/tiny_dynamic.toml"
 rm -rf refused
 run_np 2 sweep "$src/tests/app/tiny.toml" --set random.seed=1,2 -o refused > out.txt 2> err.txt; got=$?
