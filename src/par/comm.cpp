@@ -105,28 +105,6 @@ void Comm::sum_exact([[maybe_unused]] double* x, [[maybe_unused]] int n) const {
 #endif
 }
 
-void Comm::exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
-                    std::vector<std::vector<double>>& recv) const {
-  if (ranks.size() != send.size() || ranks.size() != recv.size())
-    throw std::logic_error("nacre::par::Comm::exchange: one send and one receive buffer per neighbour");
-#ifdef NACRE_HAVE_MPI
-  if (ranks.empty()) return;
-  std::vector<MPI_Request> req(2 * ranks.size());
-  constexpr int kTag = 17;
-  for (std::size_t k = 0; k < ranks.size(); ++k)
-    check(MPI_Irecv(recv[k].data(), static_cast<int>(recv[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
-                    &req[k]),
-          "MPI_Irecv");
-  for (std::size_t k = 0; k < ranks.size(); ++k)
-    check(MPI_Isend(send[k].data(), static_cast<int>(send[k].size()), MPI_DOUBLE, ranks[k], kTag, MPI_COMM_WORLD,
-                    &req[ranks.size() + k]),
-          "MPI_Isend");
-  check(MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
-#else
-  if (!ranks.empty()) throw std::logic_error("nacre::par::Comm::exchange: neighbours in a one-process build");
-#endif
-}
-
 void Comm::exchange(const std::vector<int>& ranks, [[maybe_unused]] const double* send,
                     const std::vector<int>& send_off, [[maybe_unused]] double* recv, const std::vector<int>& recv_off,
                     [[maybe_unused]] int words) const {

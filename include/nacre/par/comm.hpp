@@ -53,14 +53,11 @@ public:
   /// of deterministic_sum), in place: every rank gets the same bits.
   void sum_exact(double* x, int n) const;
 
-  /// \brief One round of point-to-point messages: send[k] goes to ranks[k] and recv[k] (its size
-  /// set by the caller, the sender's send size) comes from ranks[k]. Every pair of ranks that
-  /// exchanges lists the other (the halo relation is symmetric).
-  void exchange(const std::vector<int>& ranks, const std::vector<std::vector<double>>& send,
-                std::vector<std::vector<double>>& recv) const;
-  /// \brief The same round from two contiguous buffers: neighbour k's message is records
-  /// [send_off[k], send_off[k+1]) of `words` doubles each, and the reply lands at recv_off[k].
-  /// The pointers may be device memory where device_direct() (a GPU-aware MPI).
+  /// \brief One round of point-to-point messages from two contiguous buffers: neighbour k
+  /// (ranks[k]) gets records [send_off[k], send_off[k+1]) of `words` doubles each, and its
+  /// message, as many records as it sends, lands at recv_off[k]. Every pair of ranks that
+  /// exchanges lists the other (the halo relation is symmetric). The pointers may be device
+  /// memory where device_direct() (a GPU-aware MPI).
   void exchange(const std::vector<int>& ranks, const double* send, const std::vector<int>& send_off, double* recv,
                 const std::vector<int>& recv_off, int words) const;
 
