@@ -1,5 +1,6 @@
 // The factorised Newton preconditioner (include/nacre/mc/hessian_factor.hpp): Eigen's sparse
-// Cholesky on host memory. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2).
+// Cholesky on host memory. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in
+// the one-process numbering; on several ranks rank 0 alone holds the matrix and its factor.
 #include <nacre/mc/hessian_factor.hpp>
 
 #include <Eigen/SparseCholesky>
@@ -8,17 +9,74 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace nacre::mc {
 
 struct HessianFactor::Impl {
-  Eigen::SparseMatrix<double> H, M;
+  Eigen::SparseMatrix<double> H, M;  // rank 0
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
-  std::vector<int> off, adj, ends;  // host copies of the adjacency (fixed for the run)
-  bool analysed = false;
+  std::vector<int> off, adj, ends;  // host copies of the local adjacency (fixed for the run)
+  par::Comm comm;                   // one process unless distribute()d
+  std::vector<int> global_free;     // per local brick: one-process free index, -1 held
+  std::vector<std::vector<long long>> of_rank;  // rank 0: each rank's free bricks' one-process indices
+  bool analysed = false, ready = false;
   double shift = 0;
-  int nf = 0;
+  int nf = 0;       // this rank's free bricks
+  long long n = 0;  // free bricks of the whole specimen
+
+  /// first call: the adjacency, the numbering and (rank 0) who holds which unknowns
+  void setup(const Model<>& m) {
+    if (ready) return;
+    nf = m.n_free;
+    off.assign(m.adj_offset.data(), m.adj_offset.data() + nf + 1);
+    adj.assign(m.adj_iface.data(), m.adj_iface.data() + off[nf]);
+    ends.assign(m.ends.data(), m.ends.data() + 2 * m.n_interfaces);
+    if (global_free.empty()) {  // one process: the model's own numbering
+      global_free.assign(static_cast<std::size_t>(m.n_bricks), -1);
+      for (int k = 0; k < nf; ++k) global_free[k] = k;
+    }
+    if (static_cast<int>(global_free.size()) != m.n_bricks)
+      throw std::logic_error("nacre::mc::HessianFactor: a numbering of another model");
+    std::vector<long long> mine(global_free.begin(), global_free.begin() + nf);
+    n = comm.sum(static_cast<long long>(nf));
+    of_rank = comm.size() > 1 ? comm.gather(mine) : std::vector<std::vector<long long>>{std::move(mine)};
+    ready = true;
+  }
+  /// rank 0: the pieces of every rank in one-process order (x placed at of_rank's indices)
+  [[nodiscard]] Eigen::VectorXd assemble(const std::vector<std::vector<double>>& parts) const {
+    Eigen::VectorXd v(3 * n);
+    for (std::size_t r = 0; r < parts.size(); ++r)
+      for (std::size_t k = 0; k < of_rank[r].size(); ++k)
+        for (int c = 0; c < 3; ++c) v(3 * of_rank[r][k] + c) = parts[r][3 * k + static_cast<std::size_t>(c)];
+    return v;
+  }
+  /// y = op(r) on the whole vector: gathered to rank 0, op there, scattered back
+  template <class Op>
+  void through_root(const GradientView<>& r, const GradientView<>& y, const Op& op) const {
+    std::vector<double> mine(3 * static_cast<std::size_t>(nf));
+    for (int b = 0; b < nf; ++b)
+      for (int k = 0; k < 3; ++k) mine[3 * static_cast<std::size_t>(b) + k] = r(b, k);
+    std::vector<std::vector<double>> parts;
+    if (comm.size() > 1)
+      parts = comm.gather(mine);
+    else
+      parts.push_back(std::move(mine));
+    std::vector<std::vector<double>> out(parts.size());
+    if (comm.rank() == 0) {
+      const Eigen::VectorXd x = op(assemble(parts));
+      for (std::size_t q = 0; q < parts.size(); ++q) {
+        out[q].resize(parts[q].size());
+        for (std::size_t k = 0; k < of_rank[q].size(); ++k)
+          for (int c = 0; c < 3; ++c) out[q][3 * k + static_cast<std::size_t>(c)] = x(3 * of_rank[q][k] + c);
+      }
+    }
+    mine.assign(3 * static_cast<std::size_t>(nf), 0.0);
+    comm.scatter(out, mine);
+    for (int b = 0; b < nf; ++b)
+      for (int k = 0; k < 3; ++k) y(b, k) = mine[3 * static_cast<std::size_t>(b) + k];
+  }
 };
 
 HessianFactor::HessianFactor() : impl_(std::make_unique<Impl>()) {}
@@ -27,76 +85,111 @@ HessianFactor::HessianFactor(HessianFactor&&) noexcept = default;
 HessianFactor& HessianFactor::operator=(HessianFactor&&) noexcept = default;
 double HessianFactor::shift() const { return impl_->shift; }
 
+void HessianFactor::distribute(const par::Comm& comm, std::vector<int> global_free) {
+  if (impl_->ready) throw std::logic_error("nacre::mc::HessianFactor::distribute: before the first factor()");
+  impl_->comm = comm;
+  impl_->global_free = std::move(global_free);
+}
+
 void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t,
                            double floor_r) {
   if (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible)
     throw std::logic_error("nacre::mc::HessianFactor: host memory only (device builds use block-Jacobi)");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::factor");
   auto& I = *impl_;
-  const int nf = m.n_free;
-  if (I.off.empty()) {
-    I.nf = nf;
-    I.off.assign(m.adj_offset.data(), m.adj_offset.data() + nf + 1);
-    I.adj.assign(m.adj_iface.data(), m.adj_iface.data() + I.off[nf]);
-    I.ends.assign(m.ends.data(), m.ends.data() + 2 * m.n_interfaces);
-  }
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<std::size_t>(9 * nf + 9 * I.off[nf]));
-  std::vector<double> scale(3 * static_cast<std::size_t>(nf));
-  const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
-  for (int b = 0; b < nf; ++b) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) t.emplace_back(3 * b + r, 3 * b + c, diag(b, idx[r][c]));
-    scale[3 * b] = std::max(std::abs(diag(b, 0)), floor_t);
-    scale[3 * b + 1] = std::max(std::abs(diag(b, 1)), floor_t);
-    scale[3 * b + 2] = std::max(std::abs(diag(b, 2)), floor_r);
+  I.setup(m);
+  // this rank's rows, brick by brick: the diagonal block (6), the count of free neighbours' slots,
+  // then per such slot (adjacency order) the neighbour's one-process index and its 9 values
+  std::vector<double> rows;
+  rows.reserve(static_cast<std::size_t>(7 * I.nf + 10 * I.off[I.nf]));
+  for (int b = 0; b < I.nf; ++b) {
+    for (int k = 0; k < 6; ++k) rows.push_back(diag(b, k));
+    const std::size_t count_at = rows.size();
+    rows.push_back(0.0);
     for (int j = I.off[b]; j < I.off[b + 1]; ++j) {
       const int i = I.adj[j];
       const int other = I.ends[2 * i] == b ? I.ends[2 * i + 1] : I.ends[2 * i];
-      if (other >= nf) continue;
+      const int g = I.global_free[other];
+      if (g < 0) continue;  // a held neighbour: no unknowns
+      rows.push_back(g);
+      for (int q = 0; q < 9; ++q) rows.push_back(slots(j, q));
+      rows[count_at] += 1.0;
+    }
+  }
+  std::vector<std::vector<double>> parts;
+  if (I.comm.size() > 1)
+    parts = I.comm.gather(rows);
+  else
+    parts.push_back(std::move(rows));
+  double result[2] = {0.0, 1.0};  // the shift, success
+  if (I.comm.rank() == 0) {
+    // where each unknown's row lies, then the triplets in the one-process order
+    std::vector<const double*> at(static_cast<std::size_t>(I.n), nullptr);
+    for (std::size_t r = 0; r < parts.size(); ++r) {
+      const double* p = parts[r].data();
+      for (long long g : I.of_rank[r]) {
+        at[static_cast<std::size_t>(g)] = p;
+        p += 7 + 10 * static_cast<std::ptrdiff_t>(p[6]);
+      }
+    }
+    const long long n = 3 * I.n;
+    std::vector<Eigen::Triplet<double>> t;
+    std::vector<double> scale(static_cast<std::size_t>(n));
+    const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+    for (long long b = 0; b < I.n; ++b) {
+      const double* p = at[static_cast<std::size_t>(b)];
+      const auto B = static_cast<int>(3 * b);
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) t.emplace_back(3 * b + r, 3 * other + c, slots(j, 3 * r + c));
+        for (int c = 0; c < 3; ++c) t.emplace_back(B + r, B + c, p[idx[r][c]]);
+      scale[B] = std::max(std::abs(p[0]), floor_t);
+      scale[B + 1] = std::max(std::abs(p[1]), floor_t);
+      scale[B + 2] = std::max(std::abs(p[2]), floor_r);
+      const int cnt = static_cast<int>(p[6]);
+      for (int s = 0; s < cnt; ++s) {
+        const double* q = p + 7 + 10 * s;
+        const int O = 3 * static_cast<int>(q[0]);
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) t.emplace_back(B + r, O + c, q[1 + 3 * r + c]);
+      }
+    }
+    parts.clear();
+    I.H.resize(n, n);
+    I.H.setFromTriplets(t.begin(), t.end());  // duplicates (two joints between one pair) add up
+    if (!I.analysed) {
+      I.llt.analyzePattern(I.H);
+      I.analysed = true;
+    }
+    // H itself, else H + sigma diag(scale) with sigma growing tenfold from 1e-4
+    for (double sigma = 0.0;; sigma = sigma == 0.0 ? 1e-4 : 10.0 * sigma) {
+      I.M = I.H;
+      if (sigma > 0.0)
+        for (long long k = 0; k < n; ++k) I.M.coeffRef(k, k) += sigma * scale[static_cast<std::size_t>(k)];
+      I.llt.factorize(I.M);
+      if (I.llt.info() == Eigen::Success) {
+        result[0] = sigma;
+        break;
+      }
+      if (sigma > 1e12) {
+        result[1] = 0.0;
+        break;
+      }
     }
   }
-  const int n = 3 * nf;
-  I.H.resize(n, n);
-  I.H.setFromTriplets(t.begin(), t.end());  // duplicates (two joints between one pair) add up
-  if (!I.analysed) {
-    I.llt.analyzePattern(I.H);
-    I.analysed = true;
-  }
-  // H itself, else H + sigma diag(scale) with sigma growing tenfold from 1e-4
-  for (double sigma = 0.0;; sigma = sigma == 0.0 ? 1e-4 : 10.0 * sigma) {
-    I.M = I.H;
-    if (sigma > 0.0)
-      for (int k = 0; k < n; ++k) I.M.coeffRef(k, k) += sigma * scale[static_cast<std::size_t>(k)];
-    I.llt.factorize(I.M);
-    if (I.llt.info() == Eigen::Success) {
-      I.shift = sigma;
-      return;
-    }
-    if (sigma > 1e12) throw std::runtime_error("nacre::mc::HessianFactor: no positive definite shift found");
-  }
+  I.comm.broadcast(result, 2);
+  if (result[1] == 0.0) throw std::runtime_error("nacre::mc::HessianFactor: no positive definite shift found");
+  I.shift = result[0];
 }
 
 void HessianFactor::solve(const GradientView<>& r, const GradientView<>& y) const {
   const auto& I = *impl_;
-  Eigen::VectorXd v(3 * I.nf);
-  for (int b = 0; b < I.nf; ++b)
-    for (int k = 0; k < 3; ++k) v(3 * b + k) = r(b, k);
-  const Eigen::VectorXd x = I.llt.solve(v);
-  for (int b = 0; b < I.nf; ++b)
-    for (int k = 0; k < 3; ++k) y(b, k) = x(3 * b + k);
+  I.through_root(r, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.llt.solve(v); });
 }
 
 void HessianFactor::apply(const GradientView<>& b, const GradientView<>& y) const {
   const auto& I = *impl_;
-  Eigen::VectorXd v(3 * I.nf);
-  for (int i = 0; i < I.nf; ++i)
-    for (int k = 0; k < 3; ++k) v(3 * i + k) = b(i, k);
-  const Eigen::VectorXd x = I.M.selfadjointView<Eigen::Lower>() * v;
-  for (int i = 0; i < I.nf; ++i)
-    for (int k = 0; k < 3; ++k) y(i, k) = x(3 * i + k);
+  I.through_root(b, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return I.M.selfadjointView<Eigen::Lower>() * v;
+  });
 }
 
 }  // namespace nacre::mc

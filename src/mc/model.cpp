@@ -7,6 +7,20 @@
 
 namespace nacre::mc {
 
+std::vector<int> sweep_order(const Colouring& colouring) {
+  // free bricks by (colour, tile, wall order), then the driven bricks. Wall order inside a colour
+  // or tile keeps neighbours of neighbours close in memory.
+  const int n = static_cast<int>(colouring.colour.size());
+  std::vector<int> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  auto key = [&](int i) {
+    const int c = colouring.colour[i];
+    return std::make_tuple(c < 0 ? colouring.n_colours : c, colouring.tile[i], i);
+  };
+  std::sort(perm.begin(), perm.end(), [&](int a, int b) { return key(a) < key(b); });
+  return perm;
+}
+
 namespace {
 template <class ExecutionSpace>
 void alloc_tile_offset(const ExecutionSpace& space, Model<>& m, const std::vector<int>& toff) {
@@ -35,15 +49,7 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
     m.hist = decltype(m.hist)(Kokkos::view_alloc(space, "nacre::mc::history"), ni, m.quad.n);
   }
 
-  // Sweep order: free bricks by (colour, tile, wall order), then the driven bricks. Wall order
-  // inside a colour or tile keeps neighbours of neighbours close in memory.
-  m.perm.resize(n);
-  std::iota(m.perm.begin(), m.perm.end(), 0);
-  auto key = [&](int i) {
-    const int c = colouring.colour[i];
-    return std::make_tuple(c < 0 ? colouring.n_colours : c, colouring.tile[i], i);
-  };
-  std::sort(m.perm.begin(), m.perm.end(), [&](int a, int b) { return key(a) < key(b); });
+  m.perm = sweep_order(colouring);
   m.colour_offset.assign(colouring.n_colours + 1, 0);
   for (int i = 0; i < n; ++i)
     if (colouring.colour[i] >= 0) ++m.colour_offset[colouring.colour[i] + 1];

@@ -81,15 +81,13 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
 
 std::string ranks_refusal(const deck::Deck& d, int ranks) {
   const std::string on = " on " + std::to_string(ranks) + " MPI ranks (docs/scaling.md); run it on one rank";
+  // newton and auto relax with the trust region whatever the polish; the others polish with it
   const Relaxation r = parse_relaxation(d);
-  if (r == Relaxation::newton || r == Relaxation::automatic)
-    return d.where("solver.relaxation") + ": relaxation = \"" + d.solver.relaxation +
-           "\" (trust-region Newton) is not yet spread over ranks; expected \"monte-carlo\" or \"gradient\" for a run" +
-           on;
   const PolishMethod p = parse_polish_method(d.solver.polish);
-  if (p != PolishMethod::fire && p != PolishMethod::none)
+  if ((r == Relaxation::monte_carlo || r == Relaxation::gradient) && p != PolishMethod::fire &&
+      p != PolishMethod::none && p != PolishMethod::trust_region)
     return d.where("solver.polish") + ": polish = \"" + d.solver.polish +
-           "\" is not yet spread over ranks; expected \"fire\" or \"none\" for a run" + on;
+           "\" is not yet spread over ranks; expected \"fire\", \"trust-region\" or \"none\" for a run" + on;
   if (d.solver.colouring == "fastest")
     return d.where("solver.colouring") +
            ": colouring = \"fastest\" picks by timing, which ranks need not agree on; expected a named colouring "
@@ -398,7 +396,7 @@ PolishResult SolverOn<Exec>::polish(const std::string& method, double tolerance)
 
 template <class Exec>
 PolishResult SolverOn<Exec>::polish_with(PolishMethod method, double tolerance) {
-  if (dist_ && method != PolishMethod::fire && method != PolishMethod::none)
+  if (dist_ && method != PolishMethod::fire && method != PolishMethod::none && method != PolishMethod::trust_region)
     one_process_only(polish_method_name(method));
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;

@@ -184,6 +184,36 @@ std::vector<std::vector<double>> Comm::allgather(const std::vector<double>& mine
   return all;
 }
 
+void Comm::scatter(const std::vector<std::vector<double>>& parts, std::vector<double>& mine) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) {
+    std::vector<int> counts(size_), displs(size_);
+    std::vector<double> flat;
+    if (rank_ == 0) {
+      if (parts.size() != static_cast<std::size_t>(size_))
+        throw std::logic_error("nacre::par::Comm::scatter: one part per rank");
+      for (int r = 0; r < size_; ++r) counts[r] = static_cast<int>(parts[r].size());
+      for (int r = 1; r < size_; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+      flat.reserve(static_cast<std::size_t>(displs.back()) + counts.back());
+      for (const auto& p : parts) flat.insert(flat.end(), p.begin(), p.end());
+    }
+    check(MPI_Scatterv(flat.data(), counts.data(), displs.data(), MPI_DOUBLE, mine.data(),
+                       static_cast<int>(mine.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD),
+          "MPI_Scatterv");
+    return;
+  }
+#endif
+  if (parts.size() != 1 || parts[0].size() != mine.size())
+    throw std::logic_error("nacre::par::Comm::scatter: one part, of the receiver's length");
+  mine = parts[0];
+}
+
+void Comm::broadcast([[maybe_unused]] double* x, [[maybe_unused]] int n) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) check(MPI_Bcast(x, n, MPI_DOUBLE, 0, MPI_COMM_WORLD), "MPI_Bcast");
+#endif
+}
+
 void Comm::barrier() const {
 #ifdef NACRE_HAVE_MPI
   if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);

@@ -19,7 +19,9 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace nacre::mc {
@@ -58,6 +60,10 @@ public:
   template <class ExecutionSpace>
   void exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m, int colour,
                 Field<double, MemorySpace> cache = {}) const;
+  /// \brief Every halo row of `rows` (a View with a row per model brick, `words` <= kPoseWords
+  /// columns: a vector on the bricks, such as a Newton-CG direction) from its owner; fenced.
+  template <class ExecutionSpace, class Rows>
+  void exchange_rows(const ExecutionSpace& space, const par::Comm& comm, const Rows& rows, int words) const;
   /// \brief Bytes one full cycle sends (every colour once).
   [[nodiscard]] long long cycle_bytes() const;
 
@@ -78,13 +84,20 @@ private:
   int n_colours_ = 0;
   [[nodiscard]] const Lists& lists(int colour) const { return lists_.at(static_cast<std::size_t>(colour + 1)); }
 
+  /// one round of l's rows: pack, MPI (direct or staged), unpack; not fenced after the unpack
+  template <class ExecutionSpace, class Rows>
+  void round(const ExecutionSpace& space, const par::Comm& comm, const Rows& rows, const Lists& l, int words) const;
+
 public:  // (nvcc: the enclosing function of a device lambda must be public)
-  /// the poses of l's send list into send_buf_ (no fence)
+  /// the first `words` columns of l's send rows into send_buf_, `words` doubles a record (no fence)
+  template <class ExecutionSpace, class Rows>
+  void pack_into(const ExecutionSpace& space, const Rows& rows, const Lists& l, int words) const;
+  /// recv_buf_'s records to l's receive rows (no fence)
+  template <class ExecutionSpace, class Rows>
+  void unpack_from(const ExecutionSpace& space, const Rows& rows, const Lists& l, int words) const;
+  /// the poses' round's end: the stale cached energies recomputed (if cache), fenced
   template <class ExecutionSpace>
-  void pack_into(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l) const;
-  /// recv_buf_'s poses to l's receive list, the stale cached energies recomputed; fenced
-  template <class ExecutionSpace>
-  void unpack_from(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
+  void after_poses(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
                    Field<double, MemorySpace> cache) const;
 };
 
@@ -149,30 +162,37 @@ PoseHalo<MemorySpace>::PoseHalo(const ExecutionSpace& space, const par::Decompos
 }
 
 template <class MemorySpace>
-template <class ExecutionSpace>
-void PoseHalo<MemorySpace>::pack_into(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l) const {
+template <class ExecutionSpace, class Rows>
+void PoseHalo<MemorySpace>::pack_into(const ExecutionSpace& space, const Rows& rows, const Lists& l, int words) const {
   const int n = static_cast<int>(l.send.extent(0));
-  const auto buf = Kokkos::subview(send_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
-  auto pose = m.pose;
+  // the records packed at `words` doubles each (the buffer holds kPoseWords a record at most)
+  const Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> buf(
+      send_buf_.data(), n, words);
   auto idx = l.send;
   Kokkos::parallel_for(
-      "nacre::mc::pack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
-        for (int w = 0; w < kPoseWords; ++w) buf(k, w) = pose(idx(k), w);
+      "nacre::mc::halo_pack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        for (int w = 0; w < words; ++w) buf(k, w) = rows(idx(k), w);
+      });
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace, class Rows>
+void PoseHalo<MemorySpace>::unpack_from(const ExecutionSpace& space, const Rows& rows, const Lists& l,
+                                        int words) const {
+  const int n = static_cast<int>(l.recv.extent(0));
+  const Kokkos::View<const double**, Kokkos::LayoutRight, MemorySpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> buf(
+      recv_buf_.data(), n, words);
+  auto idx = l.recv;
+  Kokkos::parallel_for(
+      "nacre::mc::halo_unpack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
+        for (int w = 0; w < words; ++w) rows(idx(k), w) = buf(k, w);
       });
 }
 
 template <class MemorySpace>
 template <class ExecutionSpace>
-void PoseHalo<MemorySpace>::unpack_from(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
+void PoseHalo<MemorySpace>::after_poses(const ExecutionSpace& space, const Model<MemorySpace>& m, const Lists& l,
                                         Field<double, MemorySpace> cache) const {
-  const int n = static_cast<int>(l.recv.extent(0));
-  const auto buf = Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL);
-  auto pose = m.pose;
-  auto idx = l.recv;
-  Kokkos::parallel_for(
-      "nacre::mc::unpack_poses", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n), KOKKOS_LAMBDA(const int k) {
-        for (int w = 0; w < kPoseWords; ++w) pose(idx(k), w) = buf(k, w);
-      });
   if (cache.data())
     interface_energies(space, m, cache, Kokkos::View<const int*, MemorySpace>(l.stale),
                        static_cast<int>(l.stale.extent(0)));
@@ -180,26 +200,48 @@ void PoseHalo<MemorySpace>::unpack_from(const ExecutionSpace& space, const Model
 }
 
 template <class MemorySpace>
-template <class ExecutionSpace>
-void PoseHalo<MemorySpace>::exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m,
-                                     int colour, Field<double, MemorySpace> cache) const {
-  const Lists& l = lists(colour);
+template <class ExecutionSpace, class Rows>
+void PoseHalo<MemorySpace>::round(const ExecutionSpace& space, const par::Comm& comm, const Rows& rows, const Lists& l,
+                                  int words) const {
   const int ns = static_cast<int>(l.send.extent(0)), nr = static_cast<int>(l.recv.extent(0));
-  pack_into(space, m, l);
+  const auto cells = [&](int n) { return Kokkos::make_pair(std::size_t{0}, static_cast<std::size_t>(n) * words); };
+  const auto flat = [](const auto& b) {  // a buffer as one run of doubles (LayoutRight: contiguous)
+    return Kokkos::View<double*, typename std::decay_t<decltype(b)>::memory_space,
+                        Kokkos::MemoryTraits<Kokkos::Unmanaged>>(b.data(), b.size());
+  };
+  pack_into(space, rows, l, words);
   // Host memory goes to MPI as it is; device memory too where the MPI is GPU-aware
   // (comm.device_direct()), else through the host mirrors (send_host_ is send_buf_ on the host).
   constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
   const bool direct = host || comm.device_direct();
   if (!direct)
-    Kokkos::deep_copy(space, Kokkos::subview(send_host_, Kokkos::make_pair(0, ns), Kokkos::ALL),
-                      Kokkos::subview(send_buf_, Kokkos::make_pair(0, ns), Kokkos::ALL));
+    Kokkos::deep_copy(space, Kokkos::subview(flat(send_host_), cells(ns)), Kokkos::subview(flat(send_buf_), cells(ns)));
   space.fence("nacre::mc::halo_pack");  // MPI reads the buffer
   comm.exchange(neighbours_, direct ? send_buf_.data() : send_host_.data(), l.send_off,
-                direct ? recv_buf_.data() : recv_host_.data(), l.recv_off, kPoseWords);
+                direct ? recv_buf_.data() : recv_host_.data(), l.recv_off, words);
   if (!direct)
-    Kokkos::deep_copy(space, Kokkos::subview(recv_buf_, Kokkos::make_pair(0, nr), Kokkos::ALL),
-                      Kokkos::subview(recv_host_, Kokkos::make_pair(0, nr), Kokkos::ALL));
-  unpack_from(space, m, l, cache);
+    Kokkos::deep_copy(space, Kokkos::subview(flat(recv_buf_), cells(nr)), Kokkos::subview(flat(recv_host_), cells(nr)));
+  unpack_from(space, rows, l, words);
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace>
+void PoseHalo<MemorySpace>::exchange(const ExecutionSpace& space, const par::Comm& comm, const Model<MemorySpace>& m,
+                                     int colour, Field<double, MemorySpace> cache) const {
+  const Lists& l = lists(colour);
+  round(space, comm, m.pose, l, kPoseWords);
+  after_poses(space, m, l, cache);
+}
+
+template <class MemorySpace>
+template <class ExecutionSpace, class Rows>
+void PoseHalo<MemorySpace>::exchange_rows(const ExecutionSpace& space, const par::Comm& comm, const Rows& rows,
+                                          int words) const {
+  static_assert(Kokkos::SpaceAccessibility<MemorySpace, typename Rows::memory_space>::accessible,
+                "PoseHalo::exchange_rows: the rows must live in the halo's memory space");
+  if (words < 1 || words > kPoseWords) throw std::logic_error("nacre::mc::PoseHalo::exchange_rows: 1 to 5 words");
+  round(space, comm, rows, lists(-1), words);
+  space.fence("nacre::mc::halo_rows");
 }
 
 template <class MemorySpace>
@@ -208,7 +250,7 @@ std::vector<std::vector<double>> PoseHalo<MemorySpace>::pack(const ExecutionSpac
                                                              int colour) const {
   const Lists& l = lists(colour);
   const int n = static_cast<int>(l.send.extent(0));
-  pack_into(space, m, l);
+  pack_into(space, m.pose, l, kPoseWords);
   const auto h = Kokkos::subview(send_host_, Kokkos::make_pair(0, n), Kokkos::ALL);
   Kokkos::deep_copy(space, h, Kokkos::subview(send_buf_, Kokkos::make_pair(0, n), Kokkos::ALL));
   space.fence("nacre::mc::halo_pack");
@@ -239,7 +281,8 @@ void PoseHalo<MemorySpace>::unpack(const ExecutionSpace& space, const Model<Memo
   for (std::size_t q = 0; q < neighbours_.size(); ++q)
     std::copy(recv[q].begin(), recv[q].end(), h.data() + static_cast<std::size_t>(l.recv_off[q]) * kPoseWords);
   Kokkos::deep_copy(space, Kokkos::subview(recv_buf_, Kokkos::make_pair(0, n), Kokkos::ALL), h);
-  unpack_from(space, m, l, cache);
+  unpack_from(space, m.pose, l, kPoseWords);
+  after_poses(space, m, l, cache);
 }
 
 /// \brief A Monte Carlo solver's share of a specimen spread over the ranks of `comm` (mc::Solver
@@ -253,6 +296,12 @@ struct Distribution {
   long long n_free = 0;                                  ///< free bricks of the whole specimen
   std::size_t n_interfaces = 0;                          ///< interfaces of the whole specimen
   int n_colours = 0;                                     ///< colours of the whole specimen's colouring
+  /// per model brick: 1 where its pose is an unknown of the whole specimen (owned or halo free
+  /// bricks: hessian.hpp's FreeMask)
+  Kokkos::View<std::uint8_t*, MemorySpace> brick_free;
+  /// per model brick: its index among the free bricks of one process (that process's sweep
+  /// order), -1 for a driven brick: the unknowns' numbering of the Newton preconditioner's factor
+  std::vector<int> global_free;
 
   /// \brief deterministic_sum's combine for a sum of which this rank holds `owned` terms.
   [[nodiscard]] par::Reduce reduce(long long owned) const { return par::Reduce{&comm, owned}; }
@@ -303,6 +352,21 @@ std::unique_ptr<Distribution<MemorySpace>> distribute(const ExecutionSpace& spac
   for (int i = 0; i < m.n_interfaces; ++i) h(i) = dist->d.iface_owned[m.iface_perm[i]];
   Kokkos::deep_copy(space, dist->iface_owned, h);
   for (int c : global.colour) dist->n_free += c >= 0;
+  {
+    std::vector<int> free_index(global.colour.size(), -1);  // original brick -> one-process free index
+    const auto order = sweep_order(global);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      if (global.colour[order[k]] >= 0) free_index[order[k]] = static_cast<int>(k);
+    dist->global_free.resize(static_cast<std::size_t>(m.n_bricks));
+    dist->brick_free = Kokkos::View<std::uint8_t*, MemorySpace>(
+        Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::brick_free"), m.n_bricks);
+    auto hf = Kokkos::create_mirror_view(dist->brick_free);
+    for (int k = 0; k < m.n_bricks; ++k) {
+      dist->global_free[k] = free_index[dist->d.bricks[m.perm[k]]];
+      hf(k) = dist->global_free[k] >= 0;
+    }
+    Kokkos::deep_copy(space, dist->brick_free, hf);
+  }
   dist->n_interfaces = f.size();
   dist->n_colours = global.n_colours;
   space.fence("nacre::mc::distribute");

@@ -29,10 +29,18 @@ KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> unit_seeded(const kinema
                                 ad::Dual{f.t, k == 2 ? 1.0 : 0.0});
 }
 
+/// Whether brick j's pose is an unknown: the first n_free bricks of one process, or (spread over
+/// ranks) where `mask` says so, which includes the halo's free bricks.
+template <class Mask>
+KOKKOS_INLINE_FUNCTION bool is_free(const Mask& mask, int j, int n_free) {
+  return mask.data() ? mask(j) != 0 : j < n_free;
+}
+
 /// Brick j's frame with its pose seeded by v (free bricks; driven ones stay put).
-template <class PV, class V>
-KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free) {
-  const bool free = j < n_free;
+template <class PV, class V, class Mask>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free,
+                                                                      const Mask& mask) {
+  const bool free = is_free(mask, j, n_free);
   return kinematics::make_frame(ad::Dual{pose(j, 0), free ? v(j, 0) : 0.0}, ad::Dual{pose(j, 1), free ? v(j, 1) : 0.0},
                                 ad::Dual{pose(j, 2), free ? v(j, 2) : 0.0});
 }
@@ -59,11 +67,18 @@ KOKKOS_INLINE_FUNCTION void brick_tangent(const InterfaceEvaluator<MemorySpace>&
 }
 }  // namespace detail
 
+/// \brief Per brick of a model, 1 where its pose is an unknown. Empty (one process): the first
+/// n_free. On a rank's model (mc/halo.hpp) it also marks the halo's free bricks, whose entries
+/// of a vector the halo exchange brings.
+template <class MemorySpace = MemSpace>
+using FreeMask = Kokkos::View<const std::uint8_t*, MemorySpace>;
+
 /// \brief hv = H v over the free bricks (sweep order): the exact second derivative of the total
-/// energy in the free bricks' (x, y, theta), applied to v (see the file comment).
+/// energy in the free bricks' (x, y, theta), applied to v (see the file comment). With a mask,
+/// v has a row per model brick and its halo rows are current.
 template <class ExecutionSpace, class MemorySpace>
 void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, const GradientView<MemorySpace>& v,
-                    const GradientView<MemorySpace>& hv) {
+                    const GradientView<MemorySpace>& hv, const FreeMask<MemorySpace>& mask = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(!m.hist.data(), "hessian_vector: the reversible law only");
   const InterfaceEvaluator<MemorySpace> ev(m);
@@ -73,7 +88,7 @@ void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, co
       "nacre::mc::newton::hessian_vector", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
       KOKKOS_LAMBDA(const int b) {
         double h[3] = {0.0, 0.0, 0.0};
-        auto other = [&](int j) { return detail::seeded_frame(ev.pose, v, j, nf); };
+        auto other = [&](int j) { return detail::seeded_frame(ev.pose, v, j, nf, mask); };
         detail::brick_tangent(ev, off, adj, b, other(b), other, h);
         hv(b, 0) = h[0], hv(b, 1) = h[1], hv(b, 2) = h[2];
       });
@@ -116,7 +131,8 @@ template <class MemorySpace = MemSpace>
 using SlotBlockView = Kokkos::View<double* [9], Kokkos::LayoutRight, MemorySpace>;
 
 template <class ExecutionSpace, class MemorySpace>
-void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, const SlotBlockView<MemorySpace>& slots) {
+void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, const SlotBlockView<MemorySpace>& slots,
+                   const FreeMask<MemorySpace>& mask = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(!m.hist.data(), "hessian_slots: the reversible law only");
   const InterfaceEvaluator<MemorySpace> ev(m);
@@ -130,7 +146,7 @@ void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, con
           const int a = ev.ends(i, 0), c = ev.ends(i, 1);
           const int other = a == b ? c : a;
           for (int q = 0; q < 9; ++q) slots(j, q) = 0.0;
-          if (other >= nf) continue;  // a driven neighbour: no unknowns
+          if (!detail::is_free(mask, other, nf)) continue;  // a driven neighbour: no unknowns
           const kinematics::Segment sg = load_segment(ev.seg, i);
           const kinematics::Frame fo = frame_of(ev.pose, other);
           const auto mine = detail::unit_seeded(frame_of(ev.pose, b), -1);

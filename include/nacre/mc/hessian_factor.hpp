@@ -10,9 +10,18 @@
 /// shift is relative to the diagonal, M = H + sigma diag(|H_ii|) (floored), sigma = 0 first, then
 /// 1e-4, 1e-3, ... until Cholesky succeeds: scale-free between translations and rotations.
 /// Host memory only (Eigen): a build whose models live on a device uses block-Jacobi.
+///
+/// Spread over ranks (distribute()): the factor must be the one-process factor, bit for bit, and
+/// its bits depend on the matrix's numbering, so rank 0 holds it. Each factor() gathers every
+/// rank's rows (its free bricks' diagonal and slot blocks, the other brick named by its
+/// one-process free index) to rank 0, which assembles them in the one-process order and
+/// factorises; each solve() / apply() gathers the vector to rank 0 and scatters the result. One
+/// process is the case of one rank. Correct and bit-identical, but serial on rank 0.
 #include <nacre/mc/hessian.hpp>
+#include <nacre/par/comm.hpp>
 
 #include <memory>
+#include <vector>
 
 namespace nacre::mc {
 
@@ -23,6 +32,10 @@ public:
   HessianFactor(HessianFactor&&) noexcept;
   HessianFactor& operator=(HessianFactor&&) noexcept;
 
+  /// \brief Spread over the ranks of `comm`: global_free[k] is the one-process free index (the
+  /// unknowns' numbering of one process) of brick k of this rank's model, -1 where the brick is
+  /// held (driven); every rank calls every member below (collectives).
+  void distribute(const par::Comm& comm, std::vector<int> global_free);
   /// \brief Assemble M from the model's adjacency (host copies taken on the first call: the
   /// pattern never changes), the diagonal blocks (xx, yy, tt, xy, xt, yt) and the slot blocks,
   /// and factorise it; `floor_t` / `floor_r` bound the diagonal scaling of the shift.

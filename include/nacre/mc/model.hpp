@@ -88,6 +88,10 @@ struct Model {
   std::string colouring_name;
 };
 
+/// \brief The sweep order of a colouring's bricks (Model::perm: perm[k] = the brick at sweep index
+/// k): the free bricks by (colour, tile, wall order), then the driven ones.
+[[nodiscard]] std::vector<int> sweep_order(const Colouring& colouring);
+
 /// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
 /// and uploads everything on the backend's instance (fenced before returning). Poses start at zero.
 Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,

@@ -17,7 +17,7 @@
 /// velocities and halving dt; Newton halves its step until the brick's energy decreases (bricks
 /// of one colour share no interface, so each brick's decrease is the total's). Every sum is a
 /// deterministic_sum and every max a max: the same bits for any thread count. Spread over ranks
-/// (distribute(); FIRE and the residual only) each rank moves its own free bricks, sums its own
+/// (distribute(); FIRE, the trust region of trust_region.hpp and the residual) each rank moves its own free bricks, sums its own
 /// terms and interfaces over the ranks, and takes its halo's poses from their owners after each
 /// move: the bits of one process.
 #include <nacre/core/deterministic_sum.hpp>
@@ -55,7 +55,10 @@ public:
   PolishResult newton(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
                       const PolishOptions& o);
   /// \brief Work on a rank's part of a specimen (null: the whole one in this process).
-  void distribute(const Distribution<MemSpace>* d) { dist_ = d; }
+  void distribute(const Distribution<MemSpace>* d) {
+    dist_ = d;
+    tr_.distribute(d);
+  }
 
 private:
   /// deterministic_sum's combine for `owned` terms of this rank (all of them in one process)

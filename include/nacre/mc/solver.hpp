@@ -116,8 +116,9 @@ public:
   /// \brief Spread over the ranks of `comm` (docs/scaling.md): each rank builds and relaxes its
   /// part of the specimen (owned bricks and a one-brick halo), every rank calls every member in
   /// the same order, and every result is the one-process result, bit for bit. Supported so far:
-  /// relaxation = "monte-carlo" (polish "fire" or "none") and "gradient" (FIRE), colourings other
-  /// than "fastest" (std::invalid_argument otherwise). The members that return specimen-wide
+  /// every relaxation ("auto", "newton", "monte-carlo", "gradient") with the polishes "fire",
+  /// "trust-region" and "none", colourings other than "fastest" (std::invalid_argument otherwise:
+  /// ranks_refusal). The members that return specimen-wide
   /// arrays (checkpoint(), interface_states(), poses(); output_fields() to rank 0 alone) gather
   /// them from every rank: each rank must call them. comm.size() == 1: the one-process solver.
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,

@@ -15,7 +15,12 @@
 /// diagonal block of each brick (exact, hessian_blocks), inverted where positive definite, else
 /// its diagonal magnitudes with a floor (a brick whose joints are all ruptured has none).
 /// Every sum is a deterministic_sum: the same bits on 1 and 2 threads and on every backend.
+/// Spread over ranks (distribute(): a rank's model of its owned bricks and their halo) each rank
+/// holds its free bricks' rows, sums its own terms and interfaces over the ranks, takes its
+/// halo's poses after each move and its halo's rows of a vector before each H v from their
+/// owners, and the Cholesky factor lives on rank 0 (hessian_factor.hpp): the bits of one process.
 #include <nacre/core/deterministic_sum.hpp>
+#include <nacre/mc/halo.hpp>
 #include <nacre/mc/hessian.hpp>
 #include <nacre/mc/hessian_factor.hpp>
 #include <nacre/mc/polish_types.hpp>
@@ -63,8 +68,12 @@ public:
     auto vec = [&](const char* label) {
       return GradientView<>(view_alloc(space, WithoutInitializing, std::string(label)), nf);
     };
-    step_ = vec("nacre::mc::newton::step"), r_ = vec("nacre::mc::newton::residual");
-    y_ = vec("nacre::mc::newton::preconditioned"), d_ = vec("nacre::mc::newton::direction");
+    // the step and the CG direction get H v: a row per model brick (a rank's halo rows come
+    // from their owners; one process reads only the free rows)
+    const auto nb = static_cast<std::size_t>(m.n_bricks);
+    step_ = GradientView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::step")), nb);
+    d_ = GradientView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::direction")), nb);
+    r_ = vec("nacre::mc::newton::residual"), y_ = vec("nacre::mc::newton::preconditioned");
     hd_ = vec("nacre::mc::newton::h_direction"), save_ = vec("nacre::mc::newton::save");
     minv_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
     mblk_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
@@ -88,6 +97,13 @@ public:
   /// gradient), e / trial two per-interface energy Views, ws a sum workspace.
   PolishResult run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale, const PolishOptions& o,
                    const GradientView<>& grad, Field<double>& e, Field<double>& trial, SumWorkspace<>& ws);
+
+  /// \brief Work on a rank's part of a specimen (null: the whole one in this process); before
+  /// the first run().
+  void distribute(const Distribution<MemSpace>* d) {
+    dist_ = d;
+    if (d && factor_) factor_->distribute(d->comm, d->global_free), ref_factor_->distribute(d->comm, d->global_free);
+  }
 
   // ---- the building blocks (public: nvcc needs the enclosing function of a device lambda public)
   /// a . b over the free bricks (deterministic)
@@ -113,6 +129,14 @@ public:
   void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
   /// y = M^-1 r
   void precondition_apply(const ExecutionSpace& space, const GradientView<>& r, const GradientView<>& y, int nf) const;
+  /// the residual of grad (the largest over the ranks)
+  double residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf, const ResidualScale& scale) const;
+  /// v's halo rows from their owners (v: a row per model brick); nothing on one process
+  void halo_rows(const ExecutionSpace& space, const GradientView<>& v) const;
+  /// the poses of the halo from their owners after a move; nothing on one process
+  void refresh(const ExecutionSpace& space, const Model<>& m) const {
+    if (dist_) dist_->refresh(space, m);
+  }
   /// the relative shift of the last Cholesky factor (0: H was positive definite, or block-Jacobi)
   [[nodiscard]] double shift() const { return active_ ? active_->shift() : 0.0; }
   /// make the factor of the Hessian at zero poses (every joint elastic: the stiffness of the
@@ -120,6 +144,9 @@ public:
   void reference_factor(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
 
 private:
+  [[nodiscard]] par::Reduce over(long long owned) const { return reduce_over(dist_, owned); }
+  [[nodiscard]] FreeMask<> mask() const { return dist_ ? FreeMask<>(dist_->brick_free) : FreeMask<>(); }
+  const Distribution<MemSpace>* dist_ = nullptr;
   GradientView<> step_, r_, y_, d_, hd_, save_, md_;
   BlockView<> minv_, mblk_;
   std::shared_ptr<HessianFactor> factor_;      ///< Cholesky of H at a current state (null: block-Jacobi)
@@ -140,7 +167,7 @@ double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspac
                                         const GradientView<>& b, int nf) const {
   return deterministic_sum(
       space, "nacre::mc::newton::dot", ws, 0, nf,
-      KOKKOS_LAMBDA(const int i) { return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2); });
+      KOKKOS_LAMBDA(const int i) { return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2); }, over(nf));
 }
 
 template <class ExecutionSpace>
@@ -158,7 +185,8 @@ double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspa
         return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
                a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
                a(i, 2) * (M(i, 4) * b0 + M(i, 5) * b1 + M(i, 2) * b2);
-      });
+      },
+      over(nf));
 }
 
 template <class ExecutionSpace>
@@ -184,28 +212,35 @@ double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumW
         return a * (Minv(i, 0) * a + Minv(i, 3) * b + Minv(i, 4) * c) +
                b * (Minv(i, 3) * a + Minv(i, 1) * b + Minv(i, 5) * c) +
                c * (Minv(i, 4) * a + Minv(i, 5) * b + Minv(i, 2) * c);
-      });
+      },
+      over(nf));
 }
 
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e,
                                                 int ni) const {
+  const auto own = owned_mask(dist_);  // interfaces summed by their owner only
+  const long long owned = dist_ ? dist_->d.owned_interfaces : ni;
   return 4 * DBL_EPSILON *
          deterministic_sum(
              space, "nacre::mc::newton::energy_scale", ws, 0, ni,
-             KOKKOS_LAMBDA(const int i) { return Kokkos::abs(e(i)); });
+             KOKKOS_LAMBDA(const int i) { return own.data() && !own(i) ? 0.0 : Kokkos::abs(e(i)); }, over(owned));
 }
 
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, SumWorkspace<>& ws,
                                                   const InterfaceEvaluator<MemSpace>& ev, const Field<double>& e,
                                                   const Field<double>& trial, int ni) const {
+  const auto own = owned_mask(dist_);
+  const long long owned = dist_ ? dist_->d.owned_interfaces : ni;
   return deterministic_sum(
-      space, "nacre::mc::newton::energy_change", ws, 0, ni, KOKKOS_LAMBDA(const int i) {
+      space, "nacre::mc::newton::energy_change", ws, 0, ni,
+      KOKKOS_LAMBDA(const int i) {
         const double v = ev.energy(i);
         trial(i) = v;
-        return v - e(i);
-      });
+        return own.data() && !own(i) ? 0.0 : v - e(i);
+      },
+      over(owned));
 }
 
 template <class ExecutionSpace>
@@ -213,7 +248,7 @@ void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, cons
                                                double floor_r) {
   hessian_blocks(space, m, mblk_);
   if (factor_) {
-    hessian_slots(space, m, slots_);
+    hessian_slots(space, m, slots_, mask());
     space.fence("nacre::mc::newton::factor");
     factor_->factor(m, mblk_, slots_, floor_t, floor_r);
     active_ = factor_.get();
@@ -238,6 +273,18 @@ void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, cons
 }
 
 template <class ExecutionSpace>
+double TrustRegion<ExecutionSpace>::residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf,
+                                                 const ResidualScale& scale) const {
+  const double r = residual_of(space, grad, nf, scale);
+  return dist_ ? dist_->comm.max(r) : r;
+}
+
+template <class ExecutionSpace>
+void TrustRegion<ExecutionSpace>::halo_rows(const ExecutionSpace& space, const GradientView<>& v) const {
+  if (dist_) dist_->halo->exchange_rows(space, dist_->comm, v, 3);
+}
+
+template <class ExecutionSpace>
 void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, const Model<>& m, double floor_t,
                                                    double floor_r) {
   if (!ref_ready_) {
@@ -245,7 +292,7 @@ void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, 
     m0.pose = Model<>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::newton::reference_pose")),
                                 static_cast<std::size_t>(m.n_bricks));
     hessian_blocks(space, m0, mblk_);
-    hessian_slots(space, m0, slots_);
+    hessian_slots(space, m0, slots_, mask());
     space.fence("nacre::mc::newton::reference_factor");
     ref_factor_->factor(m0, mblk_, slots_, floor_t, floor_r);
     ref_ready_ = true;
@@ -308,7 +355,8 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
   };
   while (it < max_cg && ry > stop) {
     ++it;
-    hessian_vector(space, m, d, hd);
+    halo_rows(space, d);
+    hessian_vector(space, m, d, hd, mask());
     const double dhd = dot(space, ws, d, hd, nf);
     const double zd = mdot(space, ws, z, d, nf), dd = mdot(space, ws, d, d, nf);
     if (!(dhd > 0.0)) {  // negative (or no) curvature: follow d to the boundary
@@ -364,7 +412,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
   if (factor_) reference_factor(space, m, floor_t, floor_r);
   PolishResult r;
   brick_gradient(space, m, grad);
-  r.residual = residual_of(space, grad, nf, scale);
+  r.residual = residual_now(space, grad, nf, scale);
   double radius = -1.0;  // set from the first preconditioned gradient
   double g0 = 0.0;
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
@@ -387,7 +435,8 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary);
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2), one more product
-    hessian_vector(space, m, z, hd_);
+    halo_rows(space, z);
+    hessian_vector(space, m, z, hd_, mask());
     const double gs = dot(space, ws, grad, z, nf), sHs = dot(space, ws, z, hd_, nf);
     const double pred = -(gs + 0.5 * sHs);
     const double snorm = std::sqrt(mdot(space, ws, z, z, nf));
@@ -399,13 +448,14 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
                       kinematics::make_frame(
                           kinematics::Pose{pose(b, 0) + z(b, 0), pose(b, 1) + z(b, 1), pose(b, 2) + z(b, 2)}));
         });
+    refresh(space, m);
     const double dE = energy_change(space, ws, ev, e, trial, ni);
     // below the rounding of the energy the ratio means nothing: the residual decides
     const double old_residual = r.residual;
     double rho;
     if (pred <= rounding) {
       brick_gradient(space, m, grad);
-      const double res = residual_of(space, grad, nf, scale);
+      const double res = residual_now(space, grad, nf, scale);
       rho = dE <= rounding && res < old_residual ? 1.0 : -1.0;
     } else {
       rho = -dE / pred;
@@ -429,6 +479,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
                           kinematics::make_frame(kinematics::Pose{save(b, 0) + al * z(b, 0), save(b, 1) + al * z(b, 1),
                                                                   save(b, 2) + al * z(b, 2)}));
             });
+        refresh(space, m);
         dE_taken = energy_change(space, ws, ev, e, trial, ni);
         const double pred_a = -(al * gs + 0.5 * al * al * sHs);
         taken = pred_a > rounding && -dE_taken / pred_a > 1e-4;
@@ -440,13 +491,14 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
       r.energy_change += dE_taken;
       rounding = rounding_of(space, ws, e, ni);
       brick_gradient(space, m, grad);
-      r.residual = residual_of(space, grad, nf, scale);
+      r.residual = residual_now(space, grad, nf, scale);
     } else {  // rejected: back to the saved poses
       ++r.rejected;
       Kokkos::parallel_for(
           "nacre::mc::newton::reject", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
             store_frame(pose, b, kinematics::make_frame(kinematics::Pose{save(b, 0), save(b, 1), save(b, 2)}));
           });
+      refresh(space, m);
       brick_gradient(space, m, grad);
     }
     if (rho < 0.25 && !partial)
