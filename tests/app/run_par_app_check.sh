@@ -12,8 +12,12 @@
 #     the uninterrupted run's files;
 #  5. `--gpu-aware-mpi on` (no staging of the halo messages) gives the same bits; a bad value is refused;
 #  6. a restart from another deck's checkpoint, and a refusal of rank 1 alone, say why (exit 2);
-#  7. what is not spread over ranks yet is refused before anything is written, naming the deck
-#     key: the default deck (relaxation = "auto", Newton), a [dynamics] deck, `nacre sweep`.
+#  7. trust-region Newton (relaxation = "auto", the Cholesky factor on rank 0): the default deck
+#     (charts off) on 1, 2 and 4 ranks; par_mc.toml rotated by 30 degrees with the reversible law
+#     and "auto" on 2 and 4 ranks, with the block-Jacobi preconditioner on 2, and stopped on 2
+#     ranks, continued on 4;
+#  8. what is not spread over ranks yet is refused before anything is written, naming the deck
+#     key: the anneal polish, a [dynamics] deck, `nacre sweep`.
 #   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"; mpiexec="$4"; npflag="$5"; shift 5
@@ -76,6 +80,33 @@ else
   bad "SIGTERM to rank 1: exit $rc: $(tail -4 s2.txt | tr '\n' ' ')"
 fi
 
+# trust-region Newton: the default deck, and a rotated wall with bursts of Monte Carlo
+sed 's/^charts = true/charts = false/' "$src/inputs/default.toml" > default.toml
+grep -q '^charts = false' default.toml || printf 'charts = false\n' >> default.toml  # [output] is last
+"$exe" default.toml -o n1 -q || bad "default deck, one process: exit $?"
+for n in 2 4; do
+  if run_np "$n" default.toml -o "n$n" -q > "n$n.txt" 2>&1; then same n1 "n$n"; else bad "default deck on $n ranks: exit $?: $(tail -3 "n$n.txt")"; fi
+done
+sed -e 's/^damage = "irreversible"/damage = "reversible"/' -e 's/^relaxation = "monte-carlo"/relaxation = "auto"/' \
+    -e 's/^final_displacement = 0.028/final_displacement = 0.04/' -e 's/^\[geometry\]/[geometry]\nangle = 30.0/' "$deck" > rot.toml
+"$exe" rot.toml -o r1 -q || bad "rotated Newton deck, one process: exit $?"
+grep -q 'newton+monte-carlo' r1/steps.csv && ok "rotated Newton deck: a step finished by a Monte Carlo burst" \
+  || bad "rotated Newton deck: no step needed a burst (the test would not cover it)"
+for n in 2 4; do
+  if run_np "$n" rot.toml -o "r$n" -q > "r$n.txt" 2>&1; then same r1 "r$n"; else bad "rotated Newton deck on $n ranks: exit $?: $(tail -3 "r$n.txt")"; fi
+done
+# the block-Jacobi preconditioner (a device build's): no factor, the same halo rows
+sed 's/^relaxation = "auto"/relaxation = "auto"\nnewton_preconditioner = "block-jacobi"/' rot.toml > rot_bj.toml
+"$exe" rot_bj.toml -o b1 -q || bad "block-Jacobi Newton deck, one process: exit $?"
+if run_np 2 rot_bj.toml -o b2 -q > b2.txt 2>&1; then same b1 b2; else bad "block-Jacobi on 2 ranks: exit $?: $(tail -3 b2.txt)"; fi
+sed 's/^final_displacement = 0.04/final_displacement = 0.02/' rot.toml > rot_half.toml
+if run_np 2 rot_half.toml -o rh2 -q > rh2.txt 2>&1 &&
+   run_np 4 rot.toml -o rx4 -q --restart rh2/checkpoint.h5 --extend > rx4.txt 2>&1; then
+  same r1 rx4 --steps-from 6
+else
+  bad "Newton: stop on 2 ranks, continue on 4: $(tail -3 rh2.txt rx4.txt)"
+fi
+
 expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
   local pat="$1"; shift
   rm -rf refused
@@ -86,7 +117,8 @@ expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
     bad "2 ranks $*: exit $got, $( [ -e refused ] && echo 'output written, ')$(tr '\n' ' ' < err.txt | head -c 300)"
   fi
 }
-expect_np 'solver.relaxation.*not yet spread over ranks' "$src/inputs/default.toml"
+sed 's/^polish = "fire"/polish = "anneal"/' "$deck" > anneal.toml
+expect_np 'solver.polish.*not yet spread over ranks' anneal.toml
 # a checkpoint of another deck, found after Kokkos started: every rank says why before the abort
 expect_np 'cannot restart' "$deck" --restart g1/checkpoint.h5
 # a refusal of rank 1 alone (here: its deck does not exist): rank 1 says why, nobody runs

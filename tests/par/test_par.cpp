@@ -300,13 +300,20 @@ TEST_CASE("Monte Carlo colour sweeps on the MPI ranks of this run leave the bits
 TEST_CASE("the Monte Carlo solver spread over the MPI ranks of this run follows the one-process load path bit for bit",
           "[par][mc][mpi][solver]") {
   const par::Comm comm = par::Comm::world();
-  for (const auto& [angle, colouring] : {std::pair{0.0, "tiles"}, std::pair{30.0, "natural"}}) {
+  struct Case {
+    double angle;
+    const char* colouring;
+    const char* relaxation;  // "auto": trust-region Newton (the factor on rank 0), bursts of Monte Carlo
+  };
+  for (const auto& [angle, colouring, relaxation] :
+       {Case{0.0, "tiles", "monte-carlo"}, Case{30.0, "natural", "monte-carlo"}, Case{30.0, "tiles", "auto"}}) {
     deck::Deck dk = par_deck(angle);
     test::cracking_path(dk);
     dk.load.final_displacement = 0.016;  // three or four adaptive steps, joints softening
-    dk.solver.relaxation = "monte-carlo";
+    dk.solver.relaxation = relaxation;
     dk.solver.polish = "fire";
     dk.solver.colouring = colouring;
+    if (std::string(relaxation) == "auto") dk.mortar.damage = cohesive::Damage::reversible;  // Newton's law
     auto s = geometry::build_specimen(dk.geometry);
     const auto f = geometry::find_interfaces(s, dk.geometry);
     std::vector<mc::StepRecord> ref, got;
@@ -314,7 +321,7 @@ TEST_CASE("the Monte Carlo solver spread over the MPI ranks of this run follows 
     one.run([&](const mc::StepRecord& r) { ref.push_back(r); });
     mc::Solver spread(Backend{}, dk, s, f, nullptr, comm);
     spread.run([&](const mc::StepRecord& r) { got.push_back(r); });
-    CAPTURE(angle, colouring, comm.rank(), comm.size());
+    CAPTURE(angle, colouring, relaxation, comm.rank(), comm.size());
     REQUIRE(ref.size() >= 3);
     REQUIRE(got.size() == ref.size());
     const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
@@ -325,6 +332,8 @@ TEST_CASE("the Monte Carlo solver spread over the MPI ranks of this run follows 
       CHECK(got[k].cycles == ref[k].cycles);
       CHECK(got[k].reverts == ref[k].reverts);
       CHECK(got[k].polish_iterations == ref[k].polish_iterations);
+      CHECK(got[k].inner_iterations == ref[k].inner_iterations);
+      CHECK(got[k].method == ref[k].method);
       CHECK(got[k].ruptured == ref[k].ruptured);
       CHECK(same(got[k].displacement, ref[k].displacement));
       CHECK(same(got[k].energy, ref[k].energy));
@@ -354,7 +363,8 @@ TEST_CASE("the Monte Carlo solver spread over the MPI ranks of this run follows 
     CHECK(same_bits(e1, e0));
     if (comm.size() > 1) {  // what is not spread yet says so
       deck::Deck nd = dk;
-      nd.solver.relaxation = "newton";
+      nd.solver.relaxation = "monte-carlo";
+      nd.solver.polish = "anneal";
       CHECK_THROWS_AS(mc::Solver(Backend{}, nd, s, f, nullptr, comm), std::invalid_argument);
     }
   }
