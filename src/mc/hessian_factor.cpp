@@ -133,7 +133,10 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
       }
     }
     const long long n = 3 * I.n;
+    std::size_t words = 0;  // 7 a brick, 10 a slot
+    for (const auto& p : parts) words += p.size();
     std::vector<Eigen::Triplet<double>> t;
+    t.reserve(9 * static_cast<std::size_t>(I.n) + 9 * (words - 7 * static_cast<std::size_t>(I.n)) / 10);
     std::vector<double> scale(static_cast<std::size_t>(n));
     const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
     for (long long b = 0; b < I.n; ++b) {
