@@ -84,10 +84,10 @@ std::string ranks_refusal(const deck::Deck& d, int ranks) {
   // newton and auto relax with the trust region whatever the polish; the others polish with it
   const Relaxation r = parse_relaxation(d);
   const PolishMethod p = parse_polish_method(d.solver.polish);
-  if ((r == Relaxation::monte_carlo || r == Relaxation::gradient) && p != PolishMethod::fire &&
-      p != PolishMethod::none && p != PolishMethod::trust_region)
+  if ((r == Relaxation::monte_carlo || r == Relaxation::gradient) && p == PolishMethod::anneal)
     return d.where("solver.polish") + ": polish = \"" + d.solver.polish +
-           "\" is not yet spread over ranks; expected \"fire\", \"trust-region\" or \"none\" for a run" + on;
+           "\" is not yet spread over ranks; expected \"fire\", \"newton\", \"trust-region\" or \"none\" for a run" +
+           on;
   if (d.solver.colouring == "fastest")
     return d.where("solver.colouring") +
            ": colouring = \"fastest\" picks by timing, which ranks need not agree on; expected a named colouring "
@@ -396,8 +396,7 @@ PolishResult SolverOn<Exec>::polish(const std::string& method, double tolerance)
 
 template <class Exec>
 PolishResult SolverOn<Exec>::polish_with(PolishMethod method, double tolerance) {
-  if (dist_ && method != PolishMethod::fire && method != PolishMethod::none && method != PolishMethod::trust_region)
-    one_process_only(polish_method_name(method));
+  if (dist_ && method == PolishMethod::anneal) one_process_only(polish_method_name(method));
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish");  // PhaseTimes::polish
   Kokkos::Timer timer;
   PolishOptions o = polish_options_;

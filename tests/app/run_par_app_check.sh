@@ -4,7 +4,7 @@
 # attribute, steps.csv, r_curve.csv, summary.json but the machine's timings):
 #  1. tests/app/par_mc.toml (irreversible damage, ruptures, tiles, residual test) on 1 (under the
 #     launcher), 2 and 4 ranks;
-#  2. relaxation = "gradient" (FIRE alone) on 2 ranks;
+#  2. relaxation = "gradient" (FIRE alone) and the block-Newton polish on 2 ranks;
 #  3. a run stopped at D = 0.016 on 2 ranks continued on 4 (--restart --extend): a checkpoint moves
 #     between rank counts;
 #  4. SIGTERM sent to rank 1 alone: every rank stops after the same cycle (exit 143, the
@@ -44,6 +44,11 @@ run_np 2 "$deck" -o bad_switch --gpu-aware-mpi maybe > out.txt 2> err.txt; got=$
 sed 's/^relaxation = "monte-carlo"/relaxation = "gradient"/' "$deck" > grad.toml
 "$exe" grad.toml -o g1 -q || bad "gradient, one process: exit $?"
 if run_np 2 grad.toml -o g2 -q > g2.txt 2>&1; then same g1 g2; else bad "gradient on 2 ranks: exit $?: $(tail -3 g2.txt)"; fi
+
+# the block-Newton polish (colour-swept: each colour's poses to the halos before the next)
+sed 's/^polish = "fire"/polish = "newton"/' "$deck" > bnewton.toml
+"$exe" bnewton.toml -o bn1 -q || bad "block-Newton polish, one process: exit $?"
+if run_np 2 bnewton.toml -o bn2 -q > bn2.txt 2>&1; then same bn1 bn2; else bad "block-Newton polish on 2 ranks: exit $?: $(tail -3 bn2.txt)"; fi
 
 sed 's/^final_displacement = 0.028/final_displacement = 0.016/' "$deck" > half.toml
 if run_np 2 half.toml -o h2 -q > h2.txt 2>&1 &&

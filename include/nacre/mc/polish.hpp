@@ -17,7 +17,8 @@
 /// velocities and halving dt; Newton halves its step until the brick's energy decreases (bricks
 /// of one colour share no interface, so each brick's decrease is the total's). Every sum is a
 /// deterministic_sum and every max a max: the same bits for any thread count. Spread over ranks
-/// (distribute(); FIRE, the trust region of trust_region.hpp and the residual) each rank moves its own free bricks, sums its own
+/// (distribute(); FIRE, Newton, the trust region of trust_region.hpp and the residual) each rank
+/// moves its own free bricks (Newton: after each colour, that colour's poses go to the halos), sums its own
 /// terms and interfaces over the ranks, and takes its halo's poses from their owners after each
 /// move: the bits of one process.
 #include <nacre/core/deterministic_sum.hpp>
@@ -293,9 +294,12 @@ PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const
               }
             }
           });
+      // spread over ranks: this colour's moves to the ranks holding them in a halo
+      if (dist_) dist_->halo->exchange(space, dist_->comm, m, static_cast<int>(c));
     }
     r.energy_change += deterministic_sum(
-        space, "nacre::mc::polish::newton_sum", ws_, 0, m.n_free, KOKKOS_LAMBDA(const int b) { return de(b); });
+        space, "nacre::mc::polish::newton_sum", ws_, 0, m.n_free, KOKKOS_LAMBDA(const int b) { return de(b); },
+        over(m.n_free));
     r.residual = residual(space, m, scale);
   }
   r.converged = r.residual < o.tolerance;

@@ -112,6 +112,10 @@ public:
   /// a . M b (M: the preconditioner's blocks; deterministic)
   double mdot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a, const GradientView<>& b,
               int nf) const;
+  /// z . M d, and d . M d into dd: with the factor one product M d serves both (one matrix
+  /// product, on ranks one gather and scatter, instead of two); block-Jacobi: two mdot
+  double mdot_pair(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& z, const GradientView<>& d,
+                   int nf, double& dd) const;
   /// Steihaug-CG for H s = -g inside ||s||_M <= radius; returns CG iterations, sets on_boundary
   int steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta,
                int max_cg, SumWorkspace<>& ws, bool& on_boundary);
@@ -187,6 +191,19 @@ double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspa
                a(i, 2) * (M(i, 4) * b0 + M(i, 5) * b1 + M(i, 2) * b2);
       },
       over(nf));
+}
+
+template <class ExecutionSpace>
+double TrustRegion<ExecutionSpace>::mdot_pair(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& z,
+                                              const GradientView<>& d, int nf, double& dd) const {
+  if (!factor_) {
+    dd = mdot(space, ws, d, d, nf);
+    return mdot(space, ws, z, d, nf);
+  }
+  space.fence("nacre::mc::newton::mdot");
+  active_->apply(d, md_);
+  dd = dot(space, ws, d, md_, nf);
+  return dot(space, ws, z, md_, nf);
 }
 
 template <class ExecutionSpace>
@@ -358,7 +375,8 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
     halo_rows(space, d);
     hessian_vector(space, m, d, hd, mask());
     const double dhd = dot(space, ws, d, hd, nf);
-    const double zd = mdot(space, ws, z, d, nf), dd = mdot(space, ws, d, d, nf);
+    double dd = 0.0;
+    const double zd = mdot_pair(space, ws, z, d, nf, dd);
     if (!(dhd > 0.0)) {  // negative (or no) curvature: follow d to the boundary
       finish_on_boundary(zd, dd);
       break;
