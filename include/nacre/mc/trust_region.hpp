@@ -116,13 +116,14 @@ public:
   /// product, on ranks one gather and scatter, instead of two); block-Jacobi: two mdot
   double mdot_pair(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& z, const GradientView<>& d,
                    int nf, double& dd) const;
-  /// Steihaug-CG for H s = -g inside ||s||_M <= radius; returns CG iterations, sets on_boundary
+  /// Steihaug-CG for H s = -g inside ||s||_M <= radius; returns CG iterations, sets on_boundary.
+  /// minv_g: M^-1 g where the caller has it (minv_norm2 with the factor), else empty
   int steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta,
-               int max_cg, SumWorkspace<>& ws, bool& on_boundary);
+               int max_cg, SumWorkspace<>& ws, bool& on_boundary, const GradientView<>& minv_g = {});
   /// z += tau d
   void add_scaled(const ExecutionSpace& space, const GradientView<>& z, const GradientView<>& d, double tau,
                   int nf) const;
-  /// ||g||_{M^-1}^2 with the current preconditioner
+  /// ||g||_{M^-1}^2 with the current preconditioner (with the factor, M^-1 g is left in md_)
   double minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g, int nf) const;
   /// 4 eps sum |e(i)|: the rounding of an energy change summed as per-interface differences
   double rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e, int ni) const;
@@ -347,7 +348,7 @@ inline double to_boundary(double zz, double zd, double dd, double radius) {
 template <class ExecutionSpace>
 int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g,
                                           double radius, double eta, int max_cg, SumWorkspace<>& ws,
-                                          bool& on_boundary) {
+                                          bool& on_boundary, const GradientView<>& minv_g) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::cg");
   const int nf = m.n_free;
   auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
@@ -357,7 +358,11 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
         z(i, 0) = z(i, 1) = z(i, 2) = 0.0;
         r(i, 0) = g(i, 0), r(i, 1) = g(i, 1), r(i, 2) = g(i, 2);
       });
-  precondition_apply(space, r, y, nf);
+  if (minv_g.data())  // the caller's M^-1 g: the same bits as solving again
+    Kokkos::deep_copy(space, Kokkos::subview(y, Kokkos::make_pair(0, nf), Kokkos::ALL),
+                      Kokkos::subview(minv_g, Kokkos::make_pair(0, nf), Kokkos::ALL));
+  else
+    precondition_apply(space, r, y, nf);
   Kokkos::parallel_for(
       "nacre::mc::newton::cg_first_direction", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
       KOKKOS_LAMBDA(const int i) { d(i, 0) = -y(i, 0), d(i, 1) = -y(i, 1), d(i, 2) = -y(i, 2); });
@@ -450,7 +455,9 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     const double eta =
         std::min(kEtaMax, std::max(std::sqrt(gMg) / std::max(g0, 1e-300), 0.5 * o.tolerance / r.residual));
     bool boundary = false;
-    last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary);
+    // (with the factor, minv_norm2 left M^-1 g in md_: CG's first solve)
+    last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary,
+                        factor_ ? md_ : GradientView<>());
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2), one more product
     halo_rows(space, z);
