@@ -188,7 +188,7 @@ public:
       comm_.barrier();  // (as above)
       return rc;
     }
-    const fracture::CrackReading crack = read_crack();  // gathered: every rank
+    const fracture::CrackReading crack = read_crack();  // gathered to rank 0: every rank calls
     if (!writer_) return 0;
     writer_->summary(
         mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), crack, crack_->notch_tip_x()));
@@ -227,12 +227,15 @@ private:
   }
 
   io::Checkpoint named_checkpoint() const {
-    return mc::to_named(solver_->checkpoint(), print_, text_, d_.load.final_displacement,
+    const mc::Checkpoint c = solver_->checkpoint();  // (gathered to rank 0: every rank calls)
+    if (!root_) return {};
+    return mc::to_named(c, print_, text_, d_.load.final_displacement,
                         static_cast<int>(d_.load.targets().size()));
   }
 
   fracture::CrackReading read_crack() {
-    const auto st = solver_->interface_states(&iface_energy_);
+    const auto st = solver_->interface_states(&iface_energy_);  // (gathered to rank 0: every rank calls)
+    if (!root_) return {};
     return crack_->measure(st, iface_energy_);
   }
 

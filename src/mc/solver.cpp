@@ -282,14 +282,19 @@ std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* e
     if (owned_interface(i))
       recs.insert(recs.end(),
                   {static_cast<double>(global_interface(i)), static_cast<double>(h(i)), energy ? he(i) : 0.0});
-  const std::vector<double> all = assemble(n_interfaces_global(), 2, recs);  // back to the geometry's order
+  // back to the geometry's order, on rank 0 (the crack and the files are its business)
+  const std::vector<double> all = assemble(n_interfaces_global(), 2, recs, true);
+  times_.energy += timer.seconds();
+  if (all.empty()) {  // another rank
+    if (energy) energy->clear();
+    return {};
+  }
   std::vector<std::int8_t> out(n_interfaces_global());
   if (energy) energy->assign(out.size(), 0.0);
   for (std::size_t i = 0; i < out.size(); ++i) {
     out[i] = static_cast<std::int8_t>(all[2 * i]);
     if (energy) (*energy)[i] = all[2 * i + 1];
   }
-  times_.energy += timer.seconds();
   return out;
 }
 
@@ -883,7 +888,8 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
   c.window_accepted = window_accepted_;
   c.window_trials = window_trials_;
   // every array in the specimen's order, from each brick's / interface's owner (all here in one
-  // process): the same checkpoint on any rank count, so a run restarts on any other
+  // process), on rank 0 (the writer; the others get the scalars): the same checkpoint on any rank
+  // count, so a run restarts on any other
   const std::size_t nb = n_bricks_global(), ni = n_interfaces_global();
   auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
   auto hq = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prev_pose_);
@@ -894,15 +900,15 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
     pose.insert(pose.end(), {g, hp(k, 0), hp(k, 1), hp(k, 2)});
     prev.insert(prev.end(), {g, hq(k, 0), hq(k, 1), hq(k, 2)});
   }
-  c.pose = assemble(nb, 3, pose);
-  c.previous_pose = assemble(nb, 3, prev);
+  c.pose = assemble(nb, 3, pose, true);
+  c.previous_pose = assemble(nb, 3, prev, true);
   if (brick_steps_.active()) {
     auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
     auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.accepted);
     std::vector<double> st;
     for (int k = 0; k < m_.n_free; ++k)  // a rank's free bricks are its own
       st.insert(st.end(), {static_cast<double>(global_brick(k)), hs(k, 0), hs(k, 1), static_cast<double>(ha(k))});
-    c.brick_step = assemble(nb, 3, st);
+    c.brick_step = assemble(nb, 3, st, true);
   }
   if (m_.hist.data()) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.hist);
@@ -913,7 +919,7 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
       hist.push_back(static_cast<double>(global_interface(i)));
       for (int q = 0; q < nq; ++q) hist.push_back(h(i, q));
     }
-    c.history = assemble(ni, nq, hist);
+    c.history = assemble(ni, nq, hist, true);
   }
   return c;
 }

@@ -117,10 +117,11 @@ public:
   /// part of the specimen (owned bricks and a one-brick halo), every rank calls every member in
   /// the same order, and every result is the one-process result, bit for bit. Supported so far:
   /// every relaxation ("auto", "newton", "monte-carlo", "gradient") with the polishes "fire",
-  /// "trust-region" and "none", colourings other than "fastest" (std::invalid_argument otherwise:
-  /// ranks_refusal). The members that return specimen-wide
-  /// arrays (checkpoint(), interface_states(), poses(); output_fields() to rank 0 alone) gather
-  /// them from every rank: each rank must call them. comm.size() == 1: the one-process solver.
+  /// "newton", "trust-region" and "none", colourings other than "fastest" (std::invalid_argument
+  /// otherwise: ranks_refusal). The members that return specimen-wide arrays gather them from
+  /// every rank, so each rank must call them: checkpoint(), interface_states() and output_fields()
+  /// to rank 0 alone (the writer; the others get empty arrays), poses() to every rank.
+  /// comm.size() == 1: the one-process solver.
   Solver(const Backend& backend, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
          std::ostream* log, const par::Comm& comm);
   /// \brief The same on the default backend.
@@ -154,7 +155,8 @@ public:
   /// \brief Per interface, in the geometry's order: 0 elastic, 1 softening, 2 ruptured (as the
   /// dumps' "state"; fracture::CrackTracker reads the crack from it).
   /// `energy` (optional) gets each interface's energy of fracture in the same order: what it
-  /// dissipated with damage = "irreversible", its cohesive energy otherwise.
+  /// dissipated with damage = "irreversible", its cohesive energy otherwise. On several ranks:
+  /// gathered to rank 0 (the others get empty vectors).
   [[nodiscard]] std::vector<std::int8_t> interface_states(std::vector<double>* energy = nullptr);
   /// \brief Poses, brick energies, interface energies and states of the current state (a dump's
   /// fields), gathered to rank 0 (empty on the other ranks).
@@ -194,7 +196,8 @@ public:
   /// increment.
   void run(const std::function<void(const StepRecord&)>& on_step);
 
-  /// \brief Snapshot for a restart (taken between load steps, e.g. from on_step).
+  /// \brief Snapshot for a restart (taken between load steps, e.g. from on_step). On several
+  /// ranks its arrays are gathered to rank 0 (the others get the scalars and empty arrays).
   [[nodiscard]] Checkpoint checkpoint() const;
   /// \brief Continue from a checkpoint (the solver must have been built with its colouring).
   void restore(const Checkpoint& c);
