@@ -902,7 +902,9 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
   }
   c.pose = assemble(nb, 3, pose, true);
   c.previous_pose = assemble(nb, 3, prev, true);
-  if (brick_steps_.active()) {
+  // (on ranks the deck decides, not the local arrays: a rank without free bricks or interfaces
+  // must still take part in the gathers)
+  if (brick_steps_.active() || (dist_ && cfg_.mc.per_brick_steps)) {
     auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.step);
     auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), brick_steps_.accepted);
     std::vector<double> st;
@@ -910,7 +912,7 @@ Checkpoint SolverOn<Exec>::checkpoint() const {
       st.insert(st.end(), {static_cast<double>(global_brick(k)), hs(k, 0), hs(k, 1), static_cast<double>(ha(k))});
     c.brick_step = assemble(nb, 3, st, true);
   }
-  if (m_.hist.data()) {
+  if (m_.hist.data() || (dist_ && cfg_.mortar.damage == cohesive::Damage::irreversible)) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.hist);
     const int nq = m_.quad.n;
     std::vector<double> hist;

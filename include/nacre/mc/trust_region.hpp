@@ -69,10 +69,11 @@ public:
       return GradientView<>(view_alloc(space, WithoutInitializing, std::string(label)), nf);
     };
     // the step and the CG direction get H v: a row per model brick (a rank's halo rows come
-    // from their owners; one process reads only the free rows)
+    // from their owners; one process reads only the free rows). Zeroed: the rows of driven
+    // bricks are never written but travel in the halo messages (the receivers' mask skips them)
     const auto nb = static_cast<std::size_t>(m.n_bricks);
-    step_ = GradientView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::step")), nb);
-    d_ = GradientView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::direction")), nb);
+    step_ = GradientView<>(view_alloc(space, std::string("nacre::mc::newton::step")), nb);
+    d_ = GradientView<>(view_alloc(space, std::string("nacre::mc::newton::direction")), nb);
     r_ = vec("nacre::mc::newton::residual"), y_ = vec("nacre::mc::newton::preconditioned");
     hd_ = vec("nacre::mc::newton::h_direction"), save_ = vec("nacre::mc::newton::save");
     minv_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
