@@ -229,8 +229,7 @@ private:
   io::Checkpoint named_checkpoint() const {
     const mc::Checkpoint c = solver_->checkpoint();  // (gathered to rank 0: every rank calls)
     if (!root_) return {};
-    return mc::to_named(c, print_, text_, d_.load.final_displacement,
-                        static_cast<int>(d_.load.targets().size()));
+    return mc::to_named(c, print_, text_, d_.load.final_displacement, static_cast<int>(d_.load.targets().size()));
   }
 
   fracture::CrackReading read_crack() {

@@ -17,9 +17,9 @@ namespace nacre::mc {
 struct HessianFactor::Impl {
   Eigen::SparseMatrix<double> H, M;  // rank 0
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
-  std::vector<int> off, adj, ends;  // host copies of the local adjacency (fixed for the run)
-  par::Comm comm;                   // one process unless distribute()d
-  std::vector<int> global_free;     // per local brick: one-process free index, -1 held
+  std::vector<int> off, adj, ends;              // host copies of the local adjacency (fixed for the run)
+  par::Comm comm;                               // one process unless distribute()d
+  std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
   std::vector<std::vector<long long>> of_rank;  // rank 0: each rank's free bricks' one-process indices
   bool analysed = false, ready = false;
   double shift = 0;
@@ -190,9 +190,8 @@ void HessianFactor::solve(const GradientView<>& r, const GradientView<>& y) cons
 
 void HessianFactor::apply(const GradientView<>& b, const GradientView<>& y) const {
   const auto& I = *impl_;
-  I.through_root(b, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-    return I.M.selfadjointView<Eigen::Lower>() * v;
-  });
+  I.through_root(b, y,
+                 [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.M.selfadjointView<Eigen::Lower>() * v; });
 }
 
 }  // namespace nacre::mc

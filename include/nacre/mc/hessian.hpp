@@ -39,7 +39,7 @@ KOKKOS_INLINE_FUNCTION bool is_free(const Mask& mask, int j, int n_free) {
 /// Brick j's frame with its pose seeded by v (free bricks; driven ones stay put).
 template <class PV, class V, class Mask>
 KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free,
-                                                                      const Mask& mask) {
+                                                                     const Mask& mask) {
   const bool free = is_free(mask, j, n_free);
   return kinematics::make_frame(ad::Dual{pose(j, 0), free ? v(j, 0) : 0.0}, ad::Dual{pose(j, 1), free ? v(j, 1) : 0.0},
                                 ad::Dual{pose(j, 2), free ? v(j, 2) : 0.0});

@@ -136,7 +136,8 @@ public:
   /// y = M^-1 r
   void precondition_apply(const ExecutionSpace& space, const GradientView<>& r, const GradientView<>& y, int nf) const;
   /// the residual of grad (the largest over the ranks)
-  double residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf, const ResidualScale& scale) const;
+  double residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf,
+                      const ResidualScale& scale) const;
   /// v's halo rows from their owners (v: a row per model brick); nothing on one process
   void halo_rows(const ExecutionSpace& space, const GradientView<>& v) const;
   /// the poses of the halo from their owners after a move; nothing on one process
@@ -186,7 +187,8 @@ double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspa
   }
   auto M = mblk_;
   return deterministic_sum(
-      space, "nacre::mc::newton::mdot", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+      space, "nacre::mc::newton::mdot", ws, 0, nf,
+      KOKKOS_LAMBDA(const int i) {
         const double b0 = b(i, 0), b1 = b(i, 1), b2 = b(i, 2);
         return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
                a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
@@ -226,7 +228,8 @@ double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumW
   }
   auto Minv = minv_;
   return deterministic_sum(
-      space, "nacre::mc::newton::gnorm", ws, 0, nf, KOKKOS_LAMBDA(const int i) {
+      space, "nacre::mc::newton::gnorm", ws, 0, nf,
+      KOKKOS_LAMBDA(const int i) {
         const double a = g(i, 0), b = g(i, 1), c = g(i, 2);
         return a * (Minv(i, 0) * a + Minv(i, 3) * b + Minv(i, 4) * c) +
                b * (Minv(i, 3) * a + Minv(i, 1) * b + Minv(i, 5) * c) +
@@ -348,8 +351,8 @@ inline double to_boundary(double zz, double zd, double dd, double radius) {
 
 template <class ExecutionSpace>
 int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g,
-                                          double radius, double eta, int max_cg, SumWorkspace<>& ws,
-                                          bool& on_boundary, const GradientView<>& minv_g) {
+                                          double radius, double eta, int max_cg, SumWorkspace<>& ws, bool& on_boundary,
+                                          const GradientView<>& minv_g) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::cg");
   const int nf = m.n_free;
   auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
@@ -457,8 +460,8 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         std::min(kEtaMax, std::max(std::sqrt(gMg) / std::max(g0, 1e-300), 0.5 * o.tolerance / r.residual));
     bool boundary = false;
     // (with the factor, minv_norm2 left M^-1 g in md_: CG's first solve)
-    last_cg_ = steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary,
-                        factor_ ? md_ : GradientView<>());
+    last_cg_ =
+        steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary, factor_ ? md_ : GradientView<>());
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2), one more product
     halo_rows(space, z);
