@@ -41,7 +41,7 @@ struct HessianFactor::Impl {
       throw std::logic_error("nacre::mc::HessianFactor: a numbering of another model");
     std::vector<long long> mine(global_free.begin(), global_free.begin() + nf);
     n = comm.sum(static_cast<long long>(nf));
-    of_rank = comm.size() > 1 ? comm.gather(mine) : std::vector<std::vector<long long>>{std::move(mine)};
+    of_rank = comm.gather(std::move(mine));
     ready = true;
   }
   /// rank 0: the pieces of every rank in one-process order (x placed at of_rank's indices)
@@ -58,11 +58,7 @@ struct HessianFactor::Impl {
     std::vector<double> mine(3 * static_cast<std::size_t>(nf));
     for (int b = 0; b < nf; ++b)
       for (int k = 0; k < 3; ++k) mine[3 * static_cast<std::size_t>(b) + k] = r(b, k);
-    std::vector<std::vector<double>> parts;
-    if (comm.size() > 1)
-      parts = comm.gather(mine);
-    else
-      parts.push_back(std::move(mine));
+    const std::vector<std::vector<double>> parts = comm.gather(std::move(mine));
     std::vector<std::vector<double>> out(parts.size());
     if (comm.rank() == 0) {
       const Eigen::VectorXd x = op(assemble(parts));
@@ -116,11 +112,7 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
       rows[count_at] += 1.0;
     }
   }
-  std::vector<std::vector<double>> parts;
-  if (I.comm.size() > 1)
-    parts = I.comm.gather(rows);
-  else
-    parts.push_back(std::move(rows));
+  std::vector<std::vector<double>> parts = I.comm.gather(std::move(rows));
   double result[2] = {0.0, 1.0};  // the shift, success
   if (I.comm.rank() == 0) {
     // where each unknown's row lies, then the triplets in the one-process order

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #ifdef NACRE_HAVE_MPI
 #include <mpi.h>
@@ -162,6 +163,18 @@ std::vector<std::vector<double>> Comm::gather(const std::vector<double>& mine) c
 }
 std::vector<std::vector<long long>> Comm::gather(const std::vector<long long>& mine) const {
   return gather_impl(*this, mine);
+}
+std::vector<std::vector<double>> Comm::gather(std::vector<double>&& mine) const {
+  if (size_ > 1) return gather_impl(*this, mine);
+  std::vector<std::vector<double>> all;
+  all.push_back(std::move(mine));
+  return all;
+}
+std::vector<std::vector<long long>> Comm::gather(std::vector<long long>&& mine) const {
+  if (size_ > 1) return gather_impl(*this, mine);
+  std::vector<std::vector<long long>> all;
+  all.push_back(std::move(mine));
+  return all;
 }
 
 std::vector<std::vector<double>> Comm::allgather(const std::vector<double>& mine) const {

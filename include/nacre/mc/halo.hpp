@@ -326,8 +326,17 @@ Kokkos::View<const std::uint8_t*, MemorySpace> owned_mask(const Distribution<Mem
            : Kokkos::View<const std::uint8_t*, MemorySpace>();
 }
 template <class MemorySpace>
+long long owned_interfaces(const Distribution<MemorySpace>* d, long long all) {
+  return d ? d->d.owned_interfaces : all;
+}
+template <class MemorySpace>
 long long owned_interfaces(const Distribution<MemorySpace>* d, const Model<MemorySpace>& m) {
-  return d ? d->d.owned_interfaces : m.n_interfaces;
+  return owned_interfaces(d, static_cast<long long>(m.n_interfaces));
+}
+/// \brief The largest x over the ranks (x itself in one process): a residual.
+template <class MemorySpace>
+double max_over(const Distribution<MemorySpace>* d, double x) {
+  return d ? d->comm.max(x) : x;
 }
 
 /// \brief The distribution of rank comm.rank()'s part of a specimen whose whole colouring is

@@ -87,8 +87,7 @@ Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m
 template <class ExecutionSpace>
 double Polisher<ExecutionSpace>::residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale) {
   brick_gradient(space, m, grad_);
-  const double r = residual_of(space, grad_, m.n_free, scale);
-  return dist_ ? dist_->comm.max(r) : r;
+  return max_over(dist_, residual_of(space, grad_, m.n_free, scale));
 }
 
 template <class ExecutionSpace>

@@ -242,7 +242,7 @@ template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e,
                                                 int ni) const {
   const auto own = owned_mask(dist_);  // interfaces summed by their owner only
-  const long long owned = dist_ ? dist_->d.owned_interfaces : ni;
+  const long long owned = owned_interfaces(dist_, ni);
   return 4 * DBL_EPSILON *
          deterministic_sum(
              space, "nacre::mc::newton::energy_scale", ws, 0, ni,
@@ -254,7 +254,7 @@ double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, S
                                                   const InterfaceEvaluator<MemSpace>& ev, const Field<double>& e,
                                                   const Field<double>& trial, int ni) const {
   const auto own = owned_mask(dist_);
-  const long long owned = dist_ ? dist_->d.owned_interfaces : ni;
+  const long long owned = owned_interfaces(dist_, ni);
   return deterministic_sum(
       space, "nacre::mc::newton::energy_change", ws, 0, ni,
       KOKKOS_LAMBDA(const int i) {
@@ -297,8 +297,7 @@ void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, cons
 template <class ExecutionSpace>
 double TrustRegion<ExecutionSpace>::residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf,
                                                  const ResidualScale& scale) const {
-  const double r = residual_of(space, grad, nf, scale);
-  return dist_ ? dist_->comm.max(r) : r;
+  return max_over(dist_, residual_of(space, grad, nf, scale));
 }
 
 template <class ExecutionSpace>
@@ -363,8 +362,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
         r(i, 0) = g(i, 0), r(i, 1) = g(i, 1), r(i, 2) = g(i, 2);
       });
   if (minv_g.data())  // the caller's M^-1 g: the same bits as solving again
-    Kokkos::deep_copy(space, Kokkos::subview(y, Kokkos::make_pair(0, nf), Kokkos::ALL),
-                      Kokkos::subview(minv_g, Kokkos::make_pair(0, nf), Kokkos::ALL));
+    Kokkos::deep_copy(space, y, minv_g);
   else
     precondition_apply(space, r, y, nf);
   Kokkos::parallel_for(

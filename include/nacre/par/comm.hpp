@@ -69,6 +69,9 @@ public:
   /// \brief Rank 0 receives every rank's `mine` in rank order (others get an empty vector).
   [[nodiscard]] std::vector<std::vector<double>> gather(const std::vector<double>& mine) const;
   [[nodiscard]] std::vector<std::vector<long long>> gather(const std::vector<long long>& mine) const;
+  /// \brief The same, `mine` moved into the result on one process (no copy).
+  [[nodiscard]] std::vector<std::vector<double>> gather(std::vector<double>&& mine) const;
+  [[nodiscard]] std::vector<std::vector<long long>> gather(std::vector<long long>&& mine) const;
   /// \brief The reverse of gather: rank 0's parts[r] lands in rank r's `mine`, which each rank
   /// sizes beforehand to its part's length (parts is read on rank 0 only).
   void scatter(const std::vector<std::vector<double>>& parts, std::vector<double>& mine) const;
