@@ -207,9 +207,12 @@ private:
   void make_solver() {
     if (!opt_.restart.empty()) {
       cp_ = validated_checkpoint(d_, opt_, specimen_.size(), n_free_);
-      d_.solver.colouring = cp_->colouring;  // the run continues with the schedule it started with
     }
-    solver_.emplace(session_.backend(), d_, specimen_, interfaces_, log_, comm_);
+    // a restart continues with the schedule it started with; the deck keeps its rule (summary.json's
+    // colouring_rule: "auto" stays "auto", as in the uninterrupted run)
+    deck::Deck solver_deck = d_;
+    if (cp_) solver_deck.solver.colouring = cp_->colouring;
+    solver_.emplace(session_.backend(), solver_deck, specimen_, interfaces_, log_, comm_);
     if (!cp_) return;
     try {
       solver_->restore(*cp_);
