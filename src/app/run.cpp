@@ -517,9 +517,10 @@ int main(int argc, char* argv[]) {
     }
     if (comm.size() > 1) {  // what is not yet spread over ranks says so now
       std::string why =
-          d.dynamics.enabled || critical
-              ? d.path + ": [dynamics] decks run on one rank so far (docs/scaling.md); run it without mpirun"
-              : mc::ranks_refusal(d, comm.size());
+          critical ? d.path + ": --critical-step runs on one process (its trials are one-process runs); run it "
+                              "without mpirun"
+          : d.dynamics.enabled ? std::string()
+                               : mc::ranks_refusal(d, comm.size());
       if (!why.empty()) {
         std::cerr << "nacre: error: " << why << "\n";
         return 2;
@@ -565,7 +566,7 @@ int main(int argc, char* argv[]) {
     if (critical) return print_critical_step(d, opt.quiet);
     if (d.dynamics.enabled)
       return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
-                              opt.backend.empty() ? Backend{} : Backend::parse(opt.backend)});
+                              opt.backend.empty() ? Backend{} : Backend::parse(opt.backend), comm});
     return run_deck(d, opt, comm);
   } catch (const deck::DeckError& e) {  // (on several ranks each says it: an abort may end rank 0 first)
     std::cerr << "\nnacre: error" << on_rank(comm) << ": " << e.what() << "\n";

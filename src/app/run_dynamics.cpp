@@ -230,7 +230,8 @@ namespace {
 class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
-      : d_(d), D_(d.dynamics), opt_(opt), session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
+      : d_(d), D_(d.dynamics), opt_(opt), comm_(opt.comm), root_(opt.comm.rank() == 0),
+        session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
         setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
         crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)) {}
@@ -239,6 +240,7 @@ public:
     log_start();
     make_simulation();
     log_model();
+    comm_.barrier();  // every rank has read the checkpoint (restart) before rank 0 sets up the directory
     open_writer();
     t_run_ = elapsed();
     step0_ = sim_->steps();
@@ -270,6 +272,7 @@ private:
     o << setup_.specimen.size() << " bricks, " << setup_.interfaces.size() << " interfaces, dynamics "
       << method_name(p_.method) << scheme_label(p_) << " (E = " << p_.youngs_modulus << " N/mm^2, alpha_d = "
       << p_.alpha_d << " 1/s, beta_d = " << p_.beta_d << " s)";
+    if (comm_.size() > 1) o << ", " << comm_.size() << " MPI ranks";
     session_.log_start(o.str());
   }
 
@@ -283,7 +286,7 @@ private:
     }
     const bool from_fraction = restart.empty() && D_.dt <= 0;
     if (from_fraction) p_.dt = 1e-9;  // replaced below, before the first step
-    sim_.emplace(session_.backend(), p_, setup_.specimen, setup_.interfaces, d_.mortar);
+    sim_.emplace(session_.backend(), p_, setup_.specimen, setup_.interfaces, d_.mortar, comm_);
     if (from_fraction) take_step_from_fraction();
     fixed_total_ = std::max(1L, static_cast<long>(std::ceil(D_.end_time / p_.dt - 1e-9)));
     if (restart.empty()) return;
@@ -320,8 +323,18 @@ private:
           << " s at the start\n";
   }
 
+  /// Whether any rank says yes: the decisions every rank must take together (a finiteness check
+  /// that only rank 0's gathered arrays can make).
+  [[nodiscard]] bool any_rank(bool x) const { return comm_.size() > 1 ? comm_.max(x ? 1.0 : 0.0) > 0 : x; }
+  /// The first SIGINT / SIGTERM any rank received (one process: its own).
+  [[nodiscard]] int agreed_signal() const {
+    return comm_.size() > 1 ? static_cast<int>(comm_.max(pending_signal())) : pending_signal();
+  }
+
   void open_writer() {
-        fields_.emplace(setup_.specimen, setup_.interfaces, sim_->snapshot());
+    dyn::Snapshot first = sim_->snapshot();  // (a gather: every rank)
+    if (!root_) return;  // rank 0 writes
+    fields_.emplace(setup_.specimen, setup_.interfaces, std::move(first));
     // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
     io::RunWriter::Options wo;
     wo.directory = d_.output.directory, wo.hdf5 = d_.output.hdf5, wo.csv_header = series_header();
@@ -331,7 +344,8 @@ private:
 
   /// The crack now (fracture/crack.hpp).
   fracture::CrackReading read_crack() {
-    sim_->interface_damage(iface_dmg_, iface_state_, &iface_energy_);
+    sim_->interface_damage(iface_dmg_, iface_state_, &iface_energy_);  // (a gather: every rank)
+    if (!root_) return {};
     return crack_.measure(iface_state_, iface_energy_);
   }
   /// A dump's fields plus the interface field "crack": the path from the notch (docs/fracture.md).
@@ -426,6 +440,7 @@ private:
     j["seconds"] = elapsed();
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
+    if (!writer_) return;  // (ruptured, read_crack: every rank)
     // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
     writer_->summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
   }
@@ -439,8 +454,9 @@ private:
     if (session_.progress()) std::fprintf(stderr, "\n");
     status_ = "unstable";
     why_ = message;
-    writer_->flush_rows();
+    if (writer_) writer_->flush_rows();
     summary();
+    if (!writer_) return exit_unstable;
     std::cerr << "nacre: error: unstable: " << message << "\n"
               << "nacre: kept " << writer_->rows() << " rows of series.csv; last dump and checkpoint at step "
               << writer_->last_dump_step() << "; try a smaller dt (nacre " << d_.path << " --critical-step)\n";
@@ -451,12 +467,14 @@ private:
   /// Row, dump and checkpoint of step 0 (a new run); kContinue or the exit code.
   int write_start() {
     const SeriesRow r = make_row();
-    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + " at step 0");
-    writer_->row(r.step, series_line(r), false);
+    if (auto q = non_finite(r); any_rank(!q.empty())) return unstable("non-finite " + q + " at step 0");
+    if (writer_) writer_->row(r.step, series_line(r), false);
     const dyn::Snapshot snap = sim_->snapshot();
-    if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + " at step 0");
+    if (auto q = first_non_finite(snap); any_rank(!q.empty())) return unstable("non-finite " + q + " at step 0");
+    const DynCheckpoint c = checkpoint();
+    if (!writer_) return kContinue;
     writer_->dump(dump_fields(0, snap));
-    writer_->checkpoint(to_named(checkpoint(), d_));
+    writer_->checkpoint(to_named(c, d_));
     return kContinue;
   }
 
@@ -481,20 +499,22 @@ private:
     if (!ok) return unstable(sim_->why());
     step = sim_->steps();
     const SeriesRow r = make_row();
-    if (auto q = non_finite(r); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
+    if (auto q = non_finite(r); any_rank(!q.empty())) return unstable("non-finite " + q + at(step, r.time));
     // advance() checked this state (its last chunk ends here), balance included: the row's books close
-    writer_->row(step, series_line(r), false);
+    if (writer_) writer_->row(step, series_line(r), false);
     if (dyn::balance_checked(step)) worst_balance_ = std::max(worst_balance_, std::abs(r.e.balance_residual));
     dumped = finished() || (D_.dump_interval > 0 && step % D_.dump_interval == 0);
     if (dumped) {
       const dyn::Snapshot snap = sim_->snapshot();
-      if (auto q = first_non_finite(snap); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
+      if (auto q = first_non_finite(snap); any_rank(!q.empty())) return unstable("non-finite " + q + at(step, r.time));
       DynCheckpoint c = checkpoint();
-      if (auto q = non_finite(c.state); !q.empty()) return unstable("non-finite " + q + at(step, r.time));
-      writer_->dump(dump_fields(step, snap));  // the rows first, then the dump, then the checkpoint
-      writer_->checkpoint(to_named(c, d_));
+      if (auto q = non_finite(c.state); any_rank(!q.empty())) return unstable("non-finite " + q + at(step, r.time));
+      if (writer_) {
+        writer_->dump(dump_fields(step, snap));  // the rows first, then the dump, then the checkpoint
+        writer_->checkpoint(to_named(c, d_));
+      }
       last_flush_ = elapsed();
-    } else if (elapsed() - last_flush_ > 2.0) {
+    } else if (writer_ && elapsed() - last_flush_ > 2.0) {
       writer_->flush_rows();
       last_flush_ = elapsed();
     }
@@ -535,12 +555,14 @@ private:
     const long step = sim_->steps();
     if (!dumped) {  // the rows so far are written; the checkpoint holds this completed step
       DynCheckpoint c = checkpoint();
-      if (auto q = non_finite(c.state); !q.empty()) return unstable("non-finite " + q + at(step, sim_->time()));
-      writer_->checkpoint(to_named(c, d_));  // after the rows it continues
+      if (auto q = non_finite(c.state); any_rank(!q.empty()))
+        return unstable("non-finite " + q + at(step, sim_->time()));
+      if (writer_) writer_->checkpoint(to_named(c, d_));  // after the rows it continues
     }
-    writer_->flush_rows();
+    if (writer_) writer_->flush_rows();
     status_ = "interrupted";
     summary();
+    if (!writer_) return 128 + sig;
         return session_.stopped_by_signal(sig, "step " + std::to_string(step) + " (t = " + num(sim_->time()) + " s)",
                                       *writer_);
   }
@@ -552,24 +574,28 @@ private:
     while (!finished()) {
       bool dumped = false;
       if (const int rc = advance_one_row(dumped); rc != kContinue) return rc;
-      if (const int sig = pending_signal(); sig != 0 && !finished()) return interrupted(sig, dumped);
+      if (const int sig = agreed_signal(); sig != 0 && !finished()) return interrupted(sig, dumped);
     }
     return done();
   }
 
   int done() {
     if (session_.progress()) std::fprintf(stderr, "\n");
-    writer_->flush_rows();
+    if (writer_) writer_->flush_rows();
     summary();
+    const int ruptured = sim_->ruptured();  // (every rank)
+    if (!writer_) return 0;
         if (log_)
       *log_ << "nacre: done in " << elapsed() << " s; " << sim_->steps() << " steps (" << seconds_per_step() * 1e6
-            << " us/step), t = " << sim_->time() << " s, " << sim_->ruptured() << " interfaces ruptured\n";
+            << " us/step), t = " << sim_->time() << " s, " << ruptured << " interfaces ruptured\n";
     return session_.complete(*writer_, "series.csv, nacre.xdmf, checkpoint.h5, summary.json", "nacre_dyn_plot.py");
   }
 
   const deck::Deck& d_;
   const deck::Dynamics& D_;
   const DynRunOptions& opt_;
+  const par::Comm comm_;
+  const bool root_;  ///< rank 0: logs and writes
     RunSession session_;
   std::ostream* log_;
 

@@ -117,6 +117,8 @@ struct Build {
   std::vector<double> lam_t;                        ///< largest eigenvalue of M_e^-1 K_e per type
   std::vector<Rec> rec;                             ///< interfaces, in the model's order
   std::vector<int> goff;                            ///< gather-list offsets per element
+  const par::Decomposition* part = nullptr;         ///< a rank's part (MPI), null: the whole specimen
+  std::vector<int> elem_of;                         ///< model element -> whole-model element (restrict_to_part)
 };
 
 /// Elements and their types: one bolted element per brick (BE, BIE) or a fan of triangles (UE),
@@ -344,8 +346,8 @@ void upload_elements(Build& B) {
     auto DI = Kokkos::create_mirror_view(m.driven_index);
     std::vector<double> X, Y;
     for (int e = 0; e < ne; ++e) {
-      const int b = map.elem_brick[e];
-      T(e) = map.elem_type[e];
+      const int b = map.elem_brick[B.elem_of[e]];
+      T(e) = map.elem_type[B.elem_of[e]];
       auto dv = static_cast<std::int8_t>(s.drive[b]);
       if (dv > 0 && !m.top_prescribed) dv = 0;
       D(e) = dv;
@@ -404,7 +406,6 @@ void locate_interfaces(Build& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   const geometry::Interfaces& f = B.f;
-  const deck::Mortar& mortar = B.mortar;
   HostMap& map = B.map;
   Model<>& m = B.m;
   const bool ue = B.ue;
@@ -453,10 +454,8 @@ void locate_interfaces(Build& B) {
     rec.push_back(r);
   }
   m.n_mortar = static_cast<int>(rec.size());
-  if (mortar.damage == cohesive::Damage::irreversible) {
-    if (m.quad.n < 2) throw std::invalid_argument("dyn: damage = \"irreversible\" needs quadrature_points >= 2");
-    m.hist = decltype(m.hist)("nacre::dyn::history", m.n_mortar, m.quad.n);  // zero: no separation seen
-  }
+  if (B.mortar.damage == cohesive::Damage::irreversible && m.quad.n < 2)
+    throw std::invalid_argument("dyn: damage = \"irreversible\" needs quadrature_points >= 2");
   // Interfaces in element order (by their lower element, the geometry's cell order among ties):
   // the geometry lists them cell by cell (a cell spans ~3.6 brick rows), so the gather of an
   // element's force rows jumped between rows; in element order the rows an element gathers, and
@@ -608,6 +607,77 @@ void estimate_step(Build& B) {
   }
 }
 
+/// A rank's part (B.part) of the whole model assembled so far: the elements of its owned and halo
+/// bricks (increasing whole-model index) and the interfaces with an owned element (the whole
+/// model's order, bed/head first), renumbered; the maps back in HostMap; then the damage history
+/// for the model's bed/head interfaces. One process: every row, the identity maps.
+void restrict_to_part(Build& B) {
+  const geometry::Specimen& s = B.s;
+  HostMap& map = B.map;
+  Model<>& m = B.m;
+  const par::Decomposition* part = B.part;
+  const int ng = B.ne, nig = static_cast<int>(B.rec.size()), nmg = m.n_mortar;
+  map.n_elem = ng, map.n_iface = nig, map.n_mortar = nmg;
+  std::vector<int> driven_row(ng, -1);  // whole-model element -> its driven row (upload_elements' rule)
+  int nd_g = 0;
+  for (int e = 0; e < ng; ++e) {
+    auto dv = static_cast<int>(s.drive[map.elem_brick[e]]);
+    if (dv > 0 && !m.top_prescribed) dv = 0;
+    if (dv != 0) driven_row[e] = nd_g++;
+  }
+  map.n_driven = nd_g;
+  auto held = [&](int e) { return !part || part->local_of[map.elem_brick[e]] >= 0; };
+  auto owns = [&](int e) { return !part || part->owner[map.elem_brick[e]] == part->rank; };
+  std::vector<int> local(part ? ng : 0, -1);
+  B.elem_of.clear(), map.elem_owned.clear(), map.driven_global.clear(), map.driven_owned.clear();
+  for (int e = 0; e < ng; ++e) {
+    if (!held(e)) continue;
+    if (part) local[e] = static_cast<int>(B.elem_of.size());
+    B.elem_of.push_back(e);
+    map.elem_owned.push_back(owns(e) ? 1 : 0);
+    if (driven_row[e] >= 0) map.driven_global.push_back(driven_row[e]), map.driven_owned.push_back(owns(e) ? 1 : 0);
+  }
+  map.elem_global = B.elem_of;
+  map.iface_global.clear(), map.iface_owned.clear();
+  if (part) {
+    std::vector<Rec> kept;
+    int nm = 0;
+    for (int i = 0; i < nig; ++i) {
+      Rec r = B.rec[i];
+      if (!owns(r.a.elem) && !owns(r.b.elem)) continue;
+      const bool own = owns(r.a.elem);
+      r.a.elem = local[r.a.elem], r.b.elem = local[r.b.elem];
+      if (r.a.elem < 0 || r.b.elem < 0)
+        throw std::logic_error("dyn: interface " + std::to_string(i) + " of an owned element has an end outside the halo");
+      kept.push_back(r);
+      map.iface_global.push_back(i), map.iface_owned.push_back(own ? 1 : 0);
+      nm += i < nmg;
+    }
+    B.rec = std::move(kept);
+    m.n_mortar = nm;
+  } else {
+    for (int i = 0; i < nig; ++i) map.iface_global.push_back(i), map.iface_owned.push_back(1);
+  }
+  B.ne = static_cast<int>(B.elem_of.size());
+  m.n_elem = B.ne;
+  if (part) {  // the masks of the sums (empty in one process: every row counts)
+    auto mask = [](const char* label, const std::vector<char>& x) {
+      Kokkos::View<std::uint8_t*> v(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label),
+                                    std::max<std::size_t>(x.size(), 1));
+      auto h = Kokkos::create_mirror_view(v);
+      h(0) = 0;
+      for (std::size_t k = 0; k < x.size(); ++k) h(k) = static_cast<std::uint8_t>(x[k]);
+      Kokkos::deep_copy(v, h);
+      return v;
+    };
+    m.elem_owned = mask("elem_owned", map.elem_owned);
+    m.iface_owned = mask("iface_owned", map.iface_owned);
+    m.driven_owned = mask("driven_owned", map.driven_owned);
+  }
+  if (B.mortar.damage == cohesive::Damage::irreversible)
+    m.hist = decltype(m.hist)("nacre::dyn::history", m.n_mortar, m.quad.n);  // zero: no separation seen
+}
+
 /// The gather list: entries of an element in increasing interface order (a fixed summation order).
 void build_gather(Build& B) {
   Model<>& m = B.m;
@@ -642,6 +712,8 @@ void top_force(Build& B) {
     m.fp = alloc<Model<>::Dof>("fp", ne, nd);
     auto F = Kokkos::create_mirror_view(m.fp);
     Kokkos::deep_copy(F, 0.0);
+    std::vector<int> local(map.elem_brick.size(), -1);  // whole-model element -> model element
+    for (int e = 0; e < ne; ++e) local[B.elem_of[e]] = e;
     const double ytol = 1e-9 * std::max(s.width, s.height);
     for (int b = 0; b < nb; ++b) {
       const int n = s.vertex_count(b), o = s.poly_offset[b];
@@ -652,6 +724,8 @@ void top_force(Build& B) {
         int e, n0, n1;
         if (ue) e = map.brick_elem[b] + k, n0 = 1, n1 = 2;
         else e = map.brick_elem[b], n0 = 1 + k, n1 = 1 + k1;
+        e = local[e];
+        if (e < 0) continue;  // not this rank's
         F(e, 2 * n0 + 1) += half, F(e, 2 * n1 + 1) += half;
       }
     }
@@ -661,7 +735,7 @@ void top_force(Build& B) {
 }  // namespace
 
 Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const deck::Mortar& mortar, HostMap& map) {
+                    const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::build_model");
   if (!(p.dt > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
   if (!(p.youngs_modulus > 0) || !(p.density > 0) || !(p.thickness > 0) || !(p.poisson > -1 && p.poisson < 0.5))
@@ -683,14 +757,15 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       mortar.bed, mortar.head,
       cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
 
-  Build B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}};
+  Build B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}, part, {}};
   add_elements(B);
   scale_slivers(B);
   upload_types(B);
-  upload_elements(B);
   locate_interfaces(B);
+  estimate_step(B);  // the whole specimen's (every rank the same)
+  restrict_to_part(B);
+  upload_elements(B);
   upload_interfaces(B);
-  estimate_step(B);
   build_gather(B);
   top_force(B);
   return m;

@@ -17,6 +17,7 @@
 // step that passes the per-step checks (the run is deterministic, the replay takes the same
 // path); a failure only the chunk checks see leaves the state at the chunk's start.
 #include <nacre/dyn/bie.hpp>
+#include <nacre/dyn/halo.hpp>
 #include <nacre/dyn/kernels.hpp>
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/monitor.hpp>
@@ -24,7 +25,9 @@
 #include <nacre/core/backend.hpp>
 #include <nacre/core/flop_count.hpp>
 
+#include <climits>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -45,6 +48,13 @@ struct Simulation::Impl {
   Model<> m;
   HostMap map;
   std::size_t n_bricks = 0;
+  // MPI runs (halo.hpp): the ranks, the exchange of the halo's u, the rows this rank owns of
+  // each sum (elements, interfaces, driven rows); one process: Comm{}, no halo, every row
+  par::Comm comm;
+  std::unique_ptr<ElementHalo<Mem>> halo;
+  long long own_elem = 0, own_iface = 0, own_driven = 0;
+  [[nodiscard]] par::Reduce reduce(long long owned) const { return par::Reduce{&comm, owned}; }
+  [[nodiscard]] InterfaceOp<Mem> iop() const { return InterfaceOp<Mem>(m, u, iforce, halo.get()); }
   DofView<Mem> u, v, a, u0, v0, a0;
   decltype(Model<>::hist) hist0;  ///< the damage history's roll-back copy (irreversible damage only)
   AccView<Mem> acc, acc0;
@@ -146,7 +156,7 @@ struct Simulation::Impl {
     // initial state's.
     backend.visit([&](const auto& space) {
       if (is_bie())
-        bie_accelerations(space, bie_integrator(), InterfaceOp<Mem>(m, u, iforce), m.n_elem, m.n_iface,
+        bie_accelerations(space, bie_integrator(), iop(), m.n_elem, m.n_iface,
                           p.bie_scheme == BieScheme::split);
       // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
       // kinetic energy is counted as work done by the machine, so the balance starts closed.
@@ -160,28 +170,47 @@ struct Simulation::Impl {
 
   /// The tangent step bound (monitor.hpp) of the current state; BIE: interfaces only.
   StepBound<Mem> step_bound_op() const {
-    return StepBound<Mem>{InterfaceOp<Mem>(m, u, iforce), m.type, m.goff, m.gent, m.drive, m.mass, m.klam, m.nd,
+    return StepBound<Mem>{iop(), m.type, m.goff, m.gent, m.drive, m.mass, m.klam, m.nd,
                           !is_bie()};
   }
   /// Evaluate the bound now into `report` (the controlling interface only when asked: a stop).
   void read_bound(bool where) {
     const auto sb = step_bound_op();
-    const auto r = backend.visit([&](const auto& space) { return dyn::step_bound(space, sb, m.n_elem); });
+    const auto r = backend.visit([&](const auto& space) {
+      return arg_max<double>(space, "nacre::dyn::monitor::step_bound", m.n_elem, owned_term(m.elem_owned, sb));
+    });
+    // over the ranks: the largest value, the smallest whole-model element among ties (as one
+    // process's arg-max)
+    const bool found = r.val > 0 && r.loc >= 0 && r.loc < m.n_elem;
+    double val = found ? r.val : 0.0;
+    int loc = found ? map.elem_global[r.loc] : INT_MAX;
+    comm.max_loc(val, loc);
     report.dt = p.dt;
-    report.bound = r.val > 0 ? 2.0 / std::sqrt(r.val) : 0.0;
-    report.element = r.val > 0 ? r.loc : -1;
+    report.bound = val > 0 ? 2.0 / std::sqrt(val) : 0.0;
+    report.element = val > 0 ? loc : -1;
     report.brick = report.element >= 0 ? map.elem_brick[report.element] : -1;
     report.estimate = report.bound;
     report.iface = -1, report.penetration = 0;
-    if (where && report.element >= 0) {
-      int i;
-      backend.visit(
-          [&](const auto& space) { dyn::controlling_interface(space, sb, report.element, i, report.penetration); });
-      report.iface = i >= 0 && i < m.n_mortar ? map.iface_geom[i] : -1;
+    if (where && report.element >= 0) {  // on the rank that owns the element, then to every rank
+      int i = -1;
+      double pen = -std::numeric_limits<double>::infinity();
+      const int e = local_element(report.element);
+      if (e >= 0 && map.elem_owned[e]) {
+        backend.visit([&](const auto& space) { dyn::controlling_interface(space, sb, e, i, pen); });
+        i = i >= 0 && i < m.n_mortar ? map.iface_geom[map.iface_global[i]] : -1;
+      }
+      report.iface = static_cast<int>(comm.max(e >= 0 && map.elem_owned[e] ? i : -2));
+      report.penetration = comm.max(pen);
     }
   }
 
   Integrator<Mem> integrator() const { return Integrator<Mem>(m, u, v, a, acc, dacc, iforce); }
+
+  /// This rank's model element of whole-model element g, or -1.
+  [[nodiscard]] int local_element(int g) const {
+    const auto it = std::lower_bound(map.elem_global.begin(), map.elem_global.end(), g);
+    return it != map.elem_global.end() && *it == g ? static_cast<int>(it - map.elem_global.begin()) : -1;
+  }
 
   /// final_integrate over the element tiles (ElementTiles<true>) or per element: automatic =
   /// tiled on a CPU for the bolted methods (measured 1.5x faster final_integrate at 50k bricks);
@@ -199,13 +228,13 @@ struct Simulation::Impl {
   template <bool Tiled, class Ainv>
   static void verlet_of(const Impl& I, const Integrator<Mem>& it) {
     I.backend.visit([&](const auto& s) {
-      verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.m.n_elem, I.m.n_iface);
+      verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, I.iop(), I.m.n_elem, I.m.n_iface);
     });
   }
   static void bie_of(const Impl& I, const Integrator<Mem>& it) {
     auto bi = I.bie_integrator();
     bi.ex = it;
-    I.bie_step_fn(I.backend, bi, InterfaceOp<Mem>(I.m, I.u, I.iforce), I.bie_solver(), I.bie_plan);
+    I.bie_step_fn(I.backend, bi, I.iop(), I.bie_solver(), I.bie_plan);
   }
   void choose_step() {
     choose_bie_step();
@@ -234,8 +263,11 @@ struct Simulation::Impl {
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(now(step));
     step_fn(*this, it);
-    backend.visit([&](const auto& space) {  // irreversible damage: after every step
-      update_history(space, InterfaceOp<Mem>(m, u, iforce), m.n_mortar);
+    backend.visit([&](const auto& space) {
+      // BIE's last update moved u after its last force pass: the halo's u from its owners again
+      // (every later reading of an interface needs both ends); Verlet's force pass left it current
+      if (halo && is_bie()) halo->exchange(space);
+      update_history(space, iop(), m.n_mortar);  // irreversible damage: after every step
     });
     ++step;
   }
@@ -270,23 +302,33 @@ struct Simulation::Impl {
     });
   }
 
+  // The books: every sum over this rank's owned rows, combined over the ranks (par::Reduce):
+  // the bits of the one-process sum.
   double sum_acc(AccCol col) {
-    return backend.visit([&](const auto& space) { return column_sum(space, ws, acc, col, m.n_elem); });
+    return backend.visit([&](const auto& space) {
+      return column_sum(space, ws, acc, col, m.n_elem, m.elem_owned, reduce(own_elem));
+    });
   }
   double sum_driven(DrivenCol col) {
-    return backend.visit([&](const auto& space) { return column_sum(space, ws, dacc, col, m.n_driven); });
+    return backend.visit([&](const auto& space) {
+      return column_sum(space, ws, dacc, col, m.n_driven, m.driven_owned, reduce(own_driven));
+    });
   }
   double kinetic(bool free_only, bool poison) {
     const KineticEnergy<Mem> k{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison};
-    return backend.visit([&](const auto& space) { return element_sum(space, ws, k, m.n_elem); });
+    return backend.visit(
+        [&](const auto& space) { return element_sum(space, ws, k, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double strain() {
     const StrainEnergy<Mem> se{m.type, m.K, u, m.nd};
-    return backend.visit([&](const auto& space) { return element_sum(space, ws, se, m.n_elem); });
+    return backend.visit(
+        [&](const auto& space) { return element_sum(space, ws, se, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double cohesive() {
-    const InterfaceOp<Mem> op(m, u, iforce);
-    return backend.visit([&](const auto& space) { return cohesive_energy(space, ws, op, m.n_iface); });
+    const InterfaceOp<Mem> op = iop();
+    return backend.visit([&](const auto& space) {
+      return cohesive_energy(space, ws, op, m.n_iface, m.iface_owned, reduce(own_iface));
+    });
   }
 
   /// The energy books now; the balance residual is (W + E_in - (S + K + C + D)) / max|term|.
@@ -351,13 +393,26 @@ struct Simulation::Impl {
       const ElementGrowth<Mem> g{StrainEnergy<Mem>{m.type, m.K, u, m.nd},
                                  KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
                                  share, run, 1.0 / (e.strain + e.kinetic), p.growth_factor, kGrowthFloor};
-      const auto gr = backend.visit([&](const auto& space) { return element_growth(space, g, m.n_elem); });
-      report.growth_longest = std::max(report.growth_longest, gr.val);
-      if (gr.val >= p.growth_checks) {
-        auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(share, gr.loc));
-        o << "element " << gr.loc << " (brick " << map.elem_brick[gr.loc] << ") energy share grew by more than "
-          << p.growth_factor << "x per " << kCheckEvery << "-step check in " << gr.val
-          << " checks in a row (now " << hs() << " of the specimen's strain + kinetic energy): a local instability";
+      const auto gl = backend.visit([&](const auto& space) {
+        return arg_max<int>(space, "nacre::dyn::monitor::element_growth", m.n_elem, owned_term(m.elem_owned, g));
+      });
+      const bool found = gl.loc >= 0 && gl.loc < m.n_elem;  // over the ranks as read_bound's
+      double runs = found ? gl.val : 0.0;
+      int where = found ? map.elem_global[gl.loc] : INT_MAX;
+      comm.max_loc(runs, where);
+      const int longest = static_cast<int>(runs);
+      report.growth_longest = std::max(report.growth_longest, longest);
+      if (longest >= p.growth_checks) {
+        const int el = local_element(where);
+        double now = -std::numeric_limits<double>::infinity();
+        if (el >= 0 && map.elem_owned[el]) {
+          auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, Kokkos::subview(share, el));
+          now = hs();
+        }
+        now = comm.max(now);
+        o << "element " << where << " (brick " << map.elem_brick[where] << ") energy share grew by more than "
+          << p.growth_factor << "x per " << kCheckEvery << "-step check in " << longest
+          << " checks in a row (now " << now << " of the specimen's strain + kinetic energy): a local instability";
         why = o.str();
         return Health::chunk_failure;
       }
@@ -388,7 +443,7 @@ struct Simulation::Impl {
 };
 
 Simulation::Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s,
-                       const geometry::Interfaces& f, const deck::Mortar& mortar)
+                       const geometry::Interfaces& f, const deck::Mortar& mortar, const par::Comm& comm)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
   auto& I = *impl_;
@@ -401,7 +456,15 @@ Simulation::Simulation(const Backend& backend, const Params& p, const geometry::
   I.ramp.n_targets = static_cast<int>(p.programme.size());
   for (std::size_t k = 0; k < p.programme.size(); ++k) I.ramp.target[k] = p.programme[k];
   I.n_bricks = s.size();
-  I.m = build_model(p, s, f, mortar, I.map);
+  I.comm = comm;
+  std::unique_ptr<par::Decomposition> part;
+  if (comm.size() > 1)  // this rank's bricks and halo (the Monte Carlo solver's decomposition, one brick a work item)
+    part = std::make_unique<par::Decomposition>(
+        par::decompose(comm.rank(), comm.size(), s, f, geometry::build_adjacency(s.size(), f), {}));
+  I.m = build_model(p, s, f, mortar, I.map, part.get());
+  for (char c : I.map.elem_owned) I.own_elem += c;
+  for (char c : I.map.iface_owned) I.own_iface += c;
+  for (char c : I.map.driven_owned) I.own_driven += c;
   if (I.is_bie()) {
     if (!bie_solve_available(p.bie_solve))
       throw std::invalid_argument(std::string("dyn: bie_solve = \"") + bie_solve_name(p.bie_solve) +
@@ -420,6 +483,7 @@ Simulation::Simulation(const Backend& backend, const Params& p, const geometry::
   I.choose_step();
   I.dt0 = p.dt;
   I.allocate();
+  if (part) I.halo = std::make_unique<ElementHalo<Mem>>(comm, *part, I.map, I.u);
   I.backend = backend;
   I.start();
 }
@@ -503,15 +567,86 @@ double Simulation::reaction() const { return impl_->sum_driven(kReact); }
 
 int Simulation::ruptured() const {
   auto& I = *impl_;
-  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
-  return I.backend.visit([&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar); });
+  const InterfaceOp<Mem> op = I.iop();
+  const int mine =
+      I.backend.visit([&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar, I.m.iface_owned); });
+  return static_cast<int>(I.comm.sum(static_cast<long long>(mine)));
 }
 
 double Simulation::max_penetration() const {
   auto& I = *impl_;
-  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
-  return I.backend.visit([&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); });
+  const InterfaceOp<Mem> op = I.iop();
+  return I.comm.max(I.backend.visit([&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); }));
 }
+
+namespace {
+// State arrays go to and from checkpoints in LayoutLeft order (element index fastest) whatever
+// the backend's layout (ElemLayout), so a checkpoint and the tests' flat indexing are the same
+// on every backend.
+template <class V>
+std::vector<double> to_vector(const V& d) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, d);
+  const std::size_t n0 = h.extent(0), n1 = h.extent(1);
+  std::vector<double> x(n0 * n1);
+  for (std::size_t j = 0; j < n1; ++j)
+    for (std::size_t i = 0; i < n0; ++i) x[i + n0 * j] = h(i, j);
+  return x;
+}
+template <class V>
+void from_vector(const V& d, const std::vector<double>& x, const char* name) {
+  auto h = Kokkos::create_mirror_view(d);
+  const std::size_t n0 = h.extent(0), n1 = h.extent(1);
+  if (x.size() != n0 * n1)
+    throw std::runtime_error(std::string("dyn::restore_state: array '") + name + "' has " + std::to_string(x.size()) +
+                             " values, the model needs " + std::to_string(n0 * n1));
+  for (std::size_t j = 0; j < n1; ++j)
+    for (std::size_t i = 0; i < n0; ++i) h(i, j) = x[i + n0 * j];
+  Kokkos::deep_copy(d, h);
+}
+
+/// Rank 0: the whole model's n rows of a [row][col] View the ranks hold in parts (row r here is
+/// the whole model's global[r], sent where owned[r]), in to_vector's order; empty on the other
+/// ranks. One process: to_vector.
+template <class V>
+std::vector<double> gather_rows(const par::Comm& comm, const V& d, const std::vector<int>& global,
+                                const std::vector<char>& owned, std::size_t n) {
+  if (comm.size() == 1) return to_vector(d);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, d);
+  const std::size_t nc = h.extent(1);
+  std::vector<double> mine;
+  for (std::size_t r = 0; r < global.size(); ++r) {
+    if (!owned[r]) continue;
+    mine.push_back(global[r]);
+    for (std::size_t c = 0; c < nc; ++c) mine.push_back(h(r, c));
+  }
+  const auto parts = comm.gather(std::move(mine));
+  if (comm.rank() != 0) return {};
+  std::vector<double> x(n * nc, 0.0);
+  for (const auto& part : parts)
+    for (std::size_t k = 0; k + nc < part.size() + 1; k += nc + 1) {
+      const auto g = static_cast<std::size_t>(part[k]);
+      for (std::size_t c = 0; c < nc; ++c) x[g + n * c] = part[k + 1 + c];
+    }
+  return x;
+}
+
+/// The reverse on every rank: its rows (global[r] of the whole model's n) from the whole array x
+/// (every rank reads the checkpoint). One process: from_vector.
+template <class V>
+void scatter_rows(const par::Comm& comm, const V& d, const std::vector<double>& x, const std::vector<int>& global,
+                  std::size_t n, const char* name) {
+  if (comm.size() == 1) return from_vector(d, x, name);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, d);
+  const std::size_t nc = h.extent(1);
+  if (x.size() != n * nc)
+    throw std::runtime_error(std::string("dyn::restore_state: array '") + name + "' has " + std::to_string(x.size()) +
+                             " values, the model needs " + std::to_string(n * nc));
+  for (std::size_t r = 0; r < global.size(); ++r)
+    for (std::size_t c = 0; c < nc; ++c) h(r, c) = x[static_cast<std::size_t>(global[r]) + n * c];
+  Kokkos::deep_copy(d, h);
+}
+}  // namespace
+
 
 Snapshot Simulation::snapshot() const {
   auto& I = *impl_;
@@ -519,15 +654,21 @@ Snapshot Simulation::snapshot() const {
   Snapshot s;
   s.time = time();
   s.displacement = displacement();
-  auto hu = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, I.u);
-  auto hv = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, I.v);
   const auto& M = I.map;
-  const int ne = I.m.n_elem;
+  const auto ne = static_cast<std::size_t>(M.n_elem);  // the whole model's, on rank 0
+  const std::vector<double> gu = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
+  const std::vector<double> gv = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
+  std::vector<double> damage;
+  std::vector<int> state;
+  interface_damage(damage, state);  // (every rank: a gather)
+  if (I.comm.rank() != 0) return s;
+  auto hu = [&](std::size_t e, int j) { return gu[e + ne * static_cast<std::size_t>(j)]; };
+  auto hv = [&](std::size_t e, int j) { return gv[e + ne * static_cast<std::size_t>(j)]; };
   std::vector<int> node0(ne + 1, 0);
-  for (int e = 0; e < ne; ++e) node0[e + 1] = node0[e] + M.type_nodes[M.elem_type[e]];
+  for (std::size_t e = 0; e < ne; ++e) node0[e + 1] = node0[e] + M.type_nodes[M.elem_type[e]];
   const int nn = node0[ne];
   s.node_x.resize(nn), s.node_y.resize(nn), s.ux.resize(nn), s.uy.resize(nn), s.vx.resize(nn), s.vy.resize(nn);
-  for (int e = 0; e < ne; ++e) {
+  for (std::size_t e = 0; e < ne; ++e) {
     const int t = M.elem_type[e], b = M.elem_brick[e];
     for (int j = 0; j < M.type_nodes[t]; ++j) {
       const int k = node0[e] + j;
@@ -556,7 +697,7 @@ Snapshot Simulation::snapshot() const {
     s.brick_syy[b] += sig[1] * area, barea[b] += area;
   }
   for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
-  interface_damage(s.iface_damage, s.iface_state);
+  s.iface_damage = std::move(damage), s.iface_state = std::move(state);
   return s;
 }
 
@@ -578,56 +719,53 @@ void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>&
   auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, en);
-  damage.assign(nm, 0.0);
-  state.assign(nm, 0);
-  if (energy) energy->assign(nm, 0.0);
-  for (int i = 0; i < nm; ++i) {  // back to the geometry's interface order
-    const auto g = static_cast<std::size_t>(I.map.iface_geom[i]);
-    damage[g] = hd(i), state[g] = hs(i);
-    if (energy) (*energy)[g] = he(i);
-  }
+  const auto& M = I.map;
+  // (geometry index, damage, state, energy) of this rank's owned rows; on ranks gathered to rank 0
+  std::vector<double> mine;
+  mine.reserve(static_cast<std::size_t>(nm) * 4);
+  for (int i = 0; i < nm; ++i)
+    if (M.iface_owned[i])
+      mine.insert(mine.end(), {static_cast<double>(M.iface_geom[M.iface_global[i]]), hd(i), static_cast<double>(hs(i)),
+                               energy ? he(i) : 0.0});
+  const auto parts = I.comm.gather(std::move(mine));
+  damage.clear(), state.clear();
+  if (energy) energy->clear();
+  if (I.comm.rank() != 0) return;
+  const auto n = static_cast<std::size_t>(M.n_mortar);
+  damage.assign(n, 0.0);
+  state.assign(n, 0);
+  if (energy) energy->assign(n, 0.0);
+  for (const auto& part : parts)
+    for (std::size_t k = 0; k + 4 <= part.size(); k += 4) {  // back to the geometry's interface order
+      const auto g = static_cast<std::size_t>(part[k]);
+      damage[g] = part[k + 1], state[g] = static_cast<int>(part[k + 2]);
+      if (energy) (*energy)[g] = part[k + 3];
+    }
 }
-
-namespace {
-// State arrays go to and from checkpoints in LayoutLeft order (element index fastest) whatever
-// the backend's layout (ElemLayout), so a checkpoint and the tests' flat indexing are the same
-// on every backend.
-template <class V>
-std::vector<double> to_vector(const V& d) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, d);
-  const std::size_t n0 = h.extent(0), n1 = h.extent(1);
-  std::vector<double> x(n0 * n1);
-  for (std::size_t j = 0; j < n1; ++j)
-    for (std::size_t i = 0; i < n0; ++i) x[i + n0 * j] = h(i, j);
-  return x;
-}
-template <class V>
-void from_vector(const V& d, const std::vector<double>& x, const char* name) {
-  auto h = Kokkos::create_mirror_view(d);
-  const std::size_t n0 = h.extent(0), n1 = h.extent(1);
-  if (x.size() != n0 * n1)
-    throw std::runtime_error(std::string("dyn::restore_state: array '") + name + "' has " + std::to_string(x.size()) +
-                             " values, the model needs " + std::to_string(n0 * n1));
-  for (std::size_t j = 0; j < n1; ++j)
-    for (std::size_t i = 0; i < n0; ++i) h(i, j) = x[i + n0 * j];
-  Kokkos::deep_copy(d, h);
-}
-}  // namespace
 
 StateArrays Simulation::save_state() const {
   auto& I = *impl_;
   StateArrays s;
-  s["u"] = to_vector(I.u), s["v"] = to_vector(I.v), s["a"] = to_vector(I.a), s["acc"] = to_vector(I.acc);
-  s["dacc"] = to_vector(I.dacc);
-  if (I.m.hist.data()) s["history"] = to_vector(I.m.hist);  // irreversible damage (optional array)
+  const auto& M = I.map;
+  const auto ne = static_cast<std::size_t>(M.n_elem);
+  // on ranks the whole model's rows on rank 0 (the others: empty arrays), in the one-process layout
+  s["u"] = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
+  s["v"] = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
+  s["a"] = gather_rows(I.comm, I.a, M.elem_global, M.elem_owned, ne);
+  s["acc"] = gather_rows(I.comm, I.acc, M.elem_global, M.elem_owned, ne);
+  s["dacc"] = gather_rows(I.comm, I.dacc, M.driven_global, M.driven_owned, std::max<std::size_t>(M.n_driven, 1));
+  if (I.m.hist.data()) {  // irreversible damage (optional array): the bed/head rows
+    const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
+    s["history"] = gather_rows(I.comm, I.m.hist, rows, M.iface_owned, static_cast<std::size_t>(M.n_mortar));
+  }
   // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
   // changes, the step of the time base, and the energy the books do not account for (a restore
   // that finds another value was set by hand)
   const double unaccounted = I.unaccounted(I.energies());
   s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t_base, I.p.dt, I.report.bound_start, I.e_in,
                 static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base), unaccounted};
-  s["shape"] = {static_cast<double>(I.m.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
-                static_cast<double>(I.m.n_iface)};
+  s["shape"] = {static_cast<double>(I.map.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
+                static_cast<double>(I.map.n_iface)};
   return s;
 }
 
@@ -641,8 +779,8 @@ void Simulation::restore_state(const StateArrays& a) {
   for (const auto& k : state_array_names())
     if (!a.count(k)) throw std::runtime_error("dyn::restore_state: array '" + k + "' missing");
   const auto& shape = a.at("shape");
-  if (shape.size() != 4 || shape[0] != I.m.n_elem || shape[1] != I.m.nd ||
-      shape[2] != static_cast<double>(I.p.method) || shape[3] != I.m.n_iface)
+  if (shape.size() != 4 || shape[0] != I.map.n_elem || shape[1] != I.m.nd ||
+      shape[2] != static_cast<double>(I.p.method) || shape[3] != I.map.n_iface)
     throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
   const auto& clock = a.at("clock");
   if (clock.size() != 3 && clock.size() != 10)
@@ -650,14 +788,20 @@ void Simulation::restore_state(const StateArrays& a) {
   if (clock[1] != I.dt0)
     throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
-  from_vector(I.u, a.at("u"), "u"), from_vector(I.v, a.at("v"), "v"), from_vector(I.a, a.at("a"), "a");
-  from_vector(I.acc, a.at("acc"), "acc"), from_vector(I.dacc, a.at("dacc"), "dacc");
+  const auto& M = I.map;
+  const auto ne = static_cast<std::size_t>(M.n_elem);
+  scatter_rows(I.comm, I.u, a.at("u"), M.elem_global, ne, "u");
+  scatter_rows(I.comm, I.v, a.at("v"), M.elem_global, ne, "v");
+  scatter_rows(I.comm, I.a, a.at("a"), M.elem_global, ne, "a");
+  scatter_rows(I.comm, I.acc, a.at("acc"), M.elem_global, ne, "acc");
+  scatter_rows(I.comm, I.dacc, a.at("dacc"), M.driven_global, std::max<std::size_t>(M.n_driven, 1), "dacc");
   if (I.m.hist.data() != nullptr) {
     if (!a.count("history"))
       throw std::runtime_error(
           "dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
           "saved state has none");
-    from_vector(I.m.hist, a.at("history"), "history");
+    const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
+    scatter_rows(I.comm, I.m.hist, a.at("history"), rows, static_cast<std::size_t>(M.n_mortar), "history");
   } else if (a.count("history")) {
     throw std::runtime_error("dyn::restore_state: the saved state has a damage history, this run's law is reversible");
   }
@@ -726,7 +870,9 @@ double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->
 double Simulation::bie_residual() const {
   auto& I = *impl_;
   if (!I.is_bie() || I.step == 0) return 0.0;
-  return I.backend.visit([&](const auto& space) { return bie_last_residual(space, I.acc, I.m.drive, I.m.n_elem); });
+  return I.backend.visit([&](const auto& space) {
+    return bie_last_residual(space, I.ws, I.acc, I.m.drive, I.m.n_elem, I.m.elem_owned, I.reduce(I.own_elem));
+  });
 }
 int Simulation::element_types() const { return impl_->m.n_types; }
 int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }

@@ -88,6 +88,19 @@ double Comm::max(double x) const {
   return x;
 }
 
+void Comm::max_loc([[maybe_unused]] double& x, [[maybe_unused]] int& loc) const {
+#ifdef NACRE_HAVE_MPI
+  if (size_ > 1) {
+    struct {
+      double val;
+      int loc;
+    } v{x, loc};
+    check(MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE_INT, MPI_MAXLOC, MPI_COMM_WORLD), "MPI_Allreduce(maxloc)");
+    x = v.val, loc = v.loc;
+  }
+#endif
+}
+
 long long Comm::sum(long long x) const {
   sum(&x, 1);
   return x;

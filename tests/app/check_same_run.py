@@ -16,13 +16,14 @@ import numpy as np
 
 argv = sys.argv[1:]
 steps_from = 0
-if "--steps-from" in argv:  # (steps.csv: a restart into another directory copies the earlier rows)
+if "--steps-from" in argv:  # (the table: a restart into another directory copies the earlier rows)
     k = argv.index("--steps-from")
     steps_from = int(argv[k + 1])
     del argv[k:k + 2]
 a, b = argv
 fail = []
-MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_messages"}
+MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_messages",
+           "seconds_per_step", "device_bytes"}  # (dynamics: device_bytes is one rank's memory)
 
 
 def rows(path):
@@ -85,7 +86,8 @@ def same_h5(name):
                     fail.append(f"{name}:{obj}: {diff}")
 
 
-same_csv("steps.csv")
+table = "steps.csv" if os.path.exists(os.path.join(a, "steps.csv")) else "series.csv"  # Monte Carlo / dynamics
+same_csv(table)
 if os.path.exists(os.path.join(a, "r_curve.csv")):
     same_csv("r_curve.csv", drop=())
 sa, sb = json.load(open(os.path.join(a, "summary.json"))), json.load(open(os.path.join(b, "summary.json")))
@@ -95,9 +97,9 @@ for k in sorted(set(sa) | set(sb)):
 names = sorted(n for n in os.listdir(a) if n.endswith(".h5"))
 names_b = sorted(n for n in os.listdir(b) if n.endswith(".h5"))
 if steps_from:  # a restarted run's dumps start where it restarted
-    names = [n for n in names if not n.startswith("dump_") or int(n[5:10]) >= steps_from]
+    names = [n for n in names if not n.startswith("dump_") or int(n[5:-3]) >= steps_from]
 if steps_from:
-    names_b = [n for n in names_b if not n.startswith("dump_") or int(n[5:10]) >= steps_from]
+    names_b = [n for n in names_b if not n.startswith("dump_") or int(n[5:-3]) >= steps_from]
 if names != names_b:
     fail.append(f"HDF5 files {sorted(set(names) ^ set(names_b))} in one only")
 for n in names:
@@ -107,4 +109,4 @@ if len(names) < 3:
 if fail:
     print(f"check_same_run: {a} and {b} differ:\n  " + "\n  ".join(fail[:40]))
     sys.exit(1)
-print(f"check_same_run: {a} and {b}: the same run ({len(names)} HDF5 files, steps.csv, summary.json)")
+print(f"check_same_run: {a} and {b}: the same run ({len(names)} HDF5 files, {table}, summary.json)")

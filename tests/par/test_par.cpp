@@ -2,9 +2,11 @@
 // cycle on several ranks must leave the bits of one process. Checked twice: P ranks emulated in
 // this process (messages handed over in memory: every build, every P), and the MPI ranks this
 // test runs on (mpiexec -np 1, 2, 4 in CTest when built with NACRE_ENABLE_MPI).
+#include "../dyn/common.hpp"
 #include "../wall_specimen.hpp"
 
 #include <nacre/core/deterministic_sum.hpp>
+#include <nacre/dyn/simulation.hpp>
 #include <nacre/loading/pattern.hpp>
 #include <nacre/mc/colouring.hpp>
 #include <nacre/mc/kernels.hpp>
@@ -416,4 +418,83 @@ TEST_CASE("a checkpoint of one process restarts on the MPI ranks of this run (an
     CHECK(b.pose.empty());
   }
   CHECK(!a.history.empty());
+}
+
+// The dynamic solver (src/dyn) spread over this run's ranks (dyn/halo.hpp): every book, the
+// reaction, the ruptures, the step bound, the snapshot and the saved state are the bits of one
+// process, for UE, BE and BIE (split; iterated without damping, where the kept force's last
+// iteration leaves p, and with it, where it moves p after the last force pass), with irreversible
+// damage; a state saved by one
+// process restores on the ranks and the run continues on the one-process path.
+TEST_CASE("the dynamic solver spread over the MPI ranks of this run steps as one process, bit for bit",
+          "[par][dyn][mpi][solver]") {
+  const par::Comm comm = par::Comm::world();
+  deck::Geometry g = dyntest::wall(6, 12, 2.0);
+  g.angle_deg = 15;  // clipped bricks: several element types
+  const auto st = dyntest::make(g);
+  deck::Mortar mo = dyntest::mortar(7000, 14, 0.056);  // brittle: joints rupture within the run
+  mo.damage = cohesive::Damage::irreversible;
+  struct Case {
+    dyn::Method method;
+    dyn::BieScheme scheme;
+    bool damped;
+  };
+  for (const Case c : {Case{dyn::Method::ue, dyn::BieScheme::iterate, true}, Case{dyn::Method::be, dyn::BieScheme::iterate, true},
+                       Case{dyn::Method::bie, dyn::BieScheme::split, true}, Case{dyn::Method::bie, dyn::BieScheme::iterate, false},
+                       Case{dyn::Method::bie, dyn::BieScheme::iterate, true}}) {
+    dyn::Params p = dyntest::params(100, c.method);
+    p.bie_scheme = c.scheme;
+    if (c.damped) dyn::table_4_2_damping(st.s.size(), 100, p.alpha_d, p.beta_d);
+    p.rate = 40000, p.ramp_time = 2e-7, p.ramp = dyn::Ramp::smooth, p.final_displacement = 0.2;
+    p.tension = 0, p.bending = 1;
+    p.dt = 1e-9;
+    dyn::Simulation one(Backend{}, p, st.s, st.f, mo), spread(Backend{}, p, st.s, st.f, mo, comm);
+    const double h = 0.5 * one.step_report().estimate;
+    CAPTURE(static_cast<int>(c.method), static_cast<int>(c.scheme), comm.rank(), comm.size(), h);
+    REQUIRE(spread.step_report().estimate == one.step_report().estimate);
+    one.set_initial_dt(h), spread.set_initial_dt(h);
+    auto same_books = [&](const dyn::Simulation& a, const dyn::Simulation& b) {
+      const dyn::Energies x = a.energies(), y = b.energies();
+      CHECK(std::memcmp(&x, &y, sizeof x) == 0);
+      const double ra = a.reaction(), rb = b.reaction();
+      CHECK(std::memcmp(&ra, &rb, sizeof ra) == 0);
+      CHECK(a.ruptured() == b.ruptured());
+      CHECK(a.max_penetration() == b.max_penetration());
+      CHECK(a.time() == b.time());
+    };
+    for (int k = 0; k < 8; ++k) {
+      REQUIRE(one.advance(512));
+      REQUIRE(spread.advance(512));
+      same_books(one, spread);
+    }
+    if (c.method != dyn::Method::ue) CHECK(one.ruptured() > 0);  // (UE's smaller step: not yet)
+    const dyn::StepReport ra = one.step_check(), rb = spread.step_check();
+    CHECK(ra.bound == rb.bound);
+    CHECK(ra.element == rb.element);
+    CHECK(ra.iface == rb.iface);
+    const dyn::StateArrays sa = one.save_state(), sb = spread.save_state();  // (gathered to rank 0)
+    const dyn::Snapshot na = one.snapshot(), nb = spread.snapshot();
+    if (comm.rank() == 0) {
+      for (const auto& [name, x] : sa) {
+        CAPTURE(name);
+        REQUIRE(sb.count(name));
+        CHECK(same_bits(sb.at(name), x));
+      }
+      CHECK(same_bits(nb.ux, na.ux));
+      CHECK(same_bits(nb.vy, na.vy));
+      CHECK(same_bits(nb.tri_syy, na.tri_syy));
+      CHECK(same_bits(nb.iface_damage, na.iface_damage));
+      CHECK(nb.iface_state == na.iface_state);
+    } else {
+      CHECK(sb.at("u").empty());
+      CHECK(nb.ux.empty());
+    }
+    // one process's state restored on the ranks (every rank reads the whole arrays)
+    dyn::Simulation resumed(Backend{}, p, st.s, st.f, mo, comm);
+    resumed.set_initial_dt(h);
+    resumed.restore_state(sa);
+    REQUIRE(one.advance(256));
+    REQUIRE(resumed.advance(256));
+    same_books(one, resumed);
+  }
 }

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <iosfwd>
+#include <nacre/par/comm.hpp>
+
 #include <string>
 
 namespace nacre::app {
@@ -30,6 +32,7 @@ struct DynRunOptions {
   bool extend = false;   ///< with restart: the deck's end_time may differ from the checkpoint's run
   std::string restart;   ///< a checkpoint.h5, or ""
   Backend backend;       ///< where the kernels run (`--backend`; the default space unless asked)
+  par::Comm comm;        ///< the ranks the run is spread over (`mpirun -np N`; rank 0 logs and writes)
 };
 
 /// \brief Run a dynamic deck (0 done, 3 unstable, 130/143 interrupted).

@@ -1104,22 +1104,20 @@ void bie_accelerations(const ExecutionSpace& space, BieIntegrator<MemOf<Executio
 
 /// \brief Relative residual of the last step (see Simulation::bie_residual), from the free
 /// elements' acc(e, kBieG2), acc(e, kBieD2).
-template <class ExecutionSpace>
-double bie_last_residual(const ExecutionSpace& space, const AccView<MemOf<ExecutionSpace>>& acc,
-                         const Kokkos::View<const std::int8_t*, MemOf<ExecutionSpace>>& drive, int n_elem) {
-  double g = 0, d = 0;
-  Kokkos::parallel_reduce(
-      "nacre::dyn::bie_residual_norm", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-      KOKKOS_LAMBDA(const int e, double& gs) {
-        if (drive(e) == 0) gs += acc(e, kBieG2);
-      },
-      g);
-  Kokkos::parallel_reduce(
-      "nacre::dyn::bie_residual_norm", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n_elem),
-      KOKKOS_LAMBDA(const int e, double& ds) {
-        if (drive(e) == 0) ds += acc(e, kBieD2);
-      },
-      d);
+/// Deterministic sums over the rows of `mask` (empty: all) combined by `combine` (column_sum's):
+/// the same bits on any thread or rank count.
+template <class ExecutionSpace, class Combine = sum::Local>
+double bie_last_residual(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws,
+                         const AccView<MemOf<ExecutionSpace>>& acc,
+                         const Kokkos::View<const std::int8_t*, MemOf<ExecutionSpace>>& drive, int n_elem,
+                         const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
+                         const Combine& combine = {}) {
+  const double g = deterministic_sum(
+      space, "nacre::dyn::bie_residual_g", ws, 0, n_elem,
+      owned_term(mask, KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieG2) : 0.0; }), combine);
+  const double d = deterministic_sum(
+      space, "nacre::dyn::bie_residual_d", ws, 0, n_elem,
+      owned_term(mask, KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieD2) : 0.0; }), combine);
   return d > 0 ? Kokkos::sqrt(g / d) : 0.0;
 }
 

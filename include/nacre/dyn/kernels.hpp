@@ -78,6 +78,23 @@ enum DrivenCol : int { kReact = 0, kEnergyPrev = 1, kGPrev = 2, kDampPowPrev = 3
 
 template <class MemorySpace>
 using DofView = typename Model<MemorySpace>::Dof;
+template <class MemorySpace>
+class ElementHalo;  // halo.hpp: MPI runs refresh the halo's u before every interface force pass
+/// \brief A rank's rows of a sum (MPI runs): term(i) where mask(i), 0 elsewhere; an empty mask
+/// (one process) counts every row. The rows a rank does not own are never evaluated.
+template <class MemorySpace, class Term>
+struct OwnedTerm {
+  Kokkos::View<const std::uint8_t*, MemorySpace> mask;
+  Term term;
+  KOKKOS_INLINE_FUNCTION auto operator()(int i) const -> decltype(term(i)) {
+    if (mask.data() && mask(i) == 0) return decltype(term(i))(0);
+    return term(i);
+  }
+};
+template <class MemorySpace, class Term>
+OwnedTerm<MemorySpace, Term> owned_term(const Kokkos::View<std::uint8_t*, MemorySpace>& mask, const Term& t) {
+  return OwnedTerm<MemorySpace, Term>{mask, t};
+}
 /// [element][column]; the column count is the method's (kAccColsExplicit or kAccColsBie).
 template <class MemorySpace>
 using AccView = Kokkos::View<double**, ElemLayout<MemorySpace>, MemorySpace>;
@@ -102,10 +119,15 @@ struct InterfaceOp {
   cohesive::LawTable laws;
   cohesive::Quadrature quad;
   double thickness;
+  /// MPI runs: the exchange force() runs first, so the halo ends read their owners' u (host
+  /// only, never read in a kernel; null in one process)
+  const ElementHalo<MemorySpace>* halo = nullptr;
 
-  InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_)
+  InterfaceOp(const Model<MemorySpace>& m, const DofView<MemorySpace>& u_, const IforceView<MemorySpace>& out_,
+              const ElementHalo<MemorySpace>* halo_ = nullptr)
       : ielem(m.ielem), ishape(m.ishape), inode(m.inode), ixi(m.ixi), inx(m.inx), iny(m.iny), ilen(m.ilen),
-        ikind(m.ikind), u(u_), out(out_), hist(m.hist), laws(m.laws), quad(m.quad), thickness(m.thickness) {}
+        ikind(m.ikind), u(u_), out(out_), hist(m.hist), laws(m.laws), quad(m.quad), thickness(m.thickness),
+        halo(halo_) {}
 
   /// Interface i's damage history (one value per quadrature point), or null: the reversible law
   /// (no history in the run, or an internal joint).
@@ -615,10 +637,12 @@ void initial_integrate(const ExecutionSpace& space, const Integrator<MemOf<Execu
                        Kokkos::RangePolicy<ExecutionSpace, InitialTag>(space, 0, n_elem), it);
 }
 
-/// \brief The interface force at u_{n+1} (one row of op.out per interface).
+/// \brief The interface force at u_{n+1} (one row of op.out per interface); on ranks, after the
+/// halo's u came from its owners (halo.hpp).
 template <class ExecutionSpace>
 void force(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
   NACRE_ASSERT(op.out.extent(0) >= std::size_t(n_iface), "force: a force row per interface");
+  if (op.halo) op.halo->exchange(space);
   Kokkos::Profiling::ScopedRegion r("nacre::dyn::interface_force");
   Kokkos::parallel_for("nacre::dyn::interface_force", Kokkos::RangePolicy<ExecutionSpace, ForceTag>(space, 0, n_iface),
                        op);
@@ -649,27 +673,34 @@ void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, AinvFor
 }
 
 /// \brief Sum of one accumulator column over the first n rows (deterministic): AccView over
-/// the elements or DrivenAccView over the driven elements.
-template <class ExecutionSpace, class View>
+/// the elements or DrivenAccView over the driven elements; on ranks the rows of `mask` (empty:
+/// all), combined by `combine` (par::Reduce: the one-process bits).
+template <class ExecutionSpace, class View, class Combine = sum::Local>
 double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const View& acc, int col,
-                  int n) {
+                  int n, const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
+                  const Combine& combine = {}) {
   static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, typename View::memory_space>::accessible);
-  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n, KOKKOS_LAMBDA(const int e) { return acc(e, col); });
+  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n,
+                           owned_term(mask, KOKKOS_LAMBDA(const int e) { return acc(e, col); }), combine);
 }
 
-/// \brief Total cohesive energy (deterministic).
-template <class ExecutionSpace>
+/// \brief Total cohesive energy (deterministic; mask and combine as column_sum's).
+template <class ExecutionSpace, class Combine = sum::Local>
 double cohesive_energy(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws,
-                       const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface) {
+                       const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface,
+                       const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
+                       const Combine& combine = {}) {
   return deterministic_sum(space, "nacre::dyn::cohesive_energy", ws, 0, n_iface,
-                                           KOKKOS_LAMBDA(const int i) { return op.energy(i); });
+                           owned_term(mask, KOKKOS_LAMBDA(const int i) { return op.energy(i); }), combine);
 }
 
-/// \brief Sum of a per-element term functor (strain or kinetic energy), deterministic.
-template <class ExecutionSpace, class Term>
+/// \brief Sum of a per-element term functor (strain or kinetic energy), deterministic (mask and
+/// combine as column_sum's).
+template <class ExecutionSpace, class Term, class Combine = sum::Local>
 double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term,
-                   int n_elem) {
-  return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, term);
+                   int n_elem, const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
+                   const Combine& combine = {}) {
+  return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, owned_term(mask, term), combine);
 }
 
 /// \brief acc(e, kWork) = term(e) and, for a driven element, its kEnergyPrev = term(e): the
@@ -690,13 +721,16 @@ void set_initial_work(const ExecutionSpace& space, const Integrator<MemOf<Execut
                        });
 }
 
-/// \brief Number of ruptured interfaces among [0, n) (integer reduction: exact).
+/// \brief Number of ruptured interfaces among [0, n) (integer reduction: exact), those of `mask`
+/// where it is not empty.
 template <class ExecutionSpace>
-int count_ruptured(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n) {
+int count_ruptured(const ExecutionSpace& space, const InterfaceOp<MemOf<ExecutionSpace>>& op, int n,
+                   const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {}) {
   int c = 0;
   Kokkos::parallel_reduce(
       "nacre::dyn::count_ruptured", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
       KOKKOS_LAMBDA(const int i, int& acc) {
+        if (mask.data() && mask(i) == 0) return;
         double d;
         int st;
         op.damage(i, d, st);

@@ -23,6 +23,7 @@
 #include <nacre/geometry/joint_kind.hpp>
 #include <nacre/loading/pattern.hpp>
 #include <nacre/loading/ramp.hpp>
+#include <nacre/par/decomposition.hpp>
 
 #include <cstdint>
 #include <string>
@@ -126,6 +127,13 @@ struct Model {
   /// have no row). LayoutRight: an interface's few points are read together.
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;
 
+  // ---- a rank's part of the specimen (MPI runs; empty in one process): 1 where this rank owns
+  // the element / the interface (by its side a) / the driven row, the rows its sums count (each
+  // row of the whole model is owned by exactly one rank, so the combined sums have the one-process
+  // terms). The others are the halo: elements whose displacement an owned interface reads, held
+  // at their owner's values (halo.hpp), and interfaces of an owned element owned by the neighbour.
+  Kokkos::View<std::uint8_t*, MemorySpace> elem_owned, iface_owned, driven_owned;
+
   // ---- run constants
   double h = 0, alpha = 0, beta = 0, thickness = 1, eps_th = 0;
   loading::Pattern pattern;                    ///< prescribed displacement of the driven edges
@@ -137,7 +145,10 @@ struct Model {
   double sliver_step_gain = 1;               ///< the elements' step bound after / before the scaling
 };
 
-/// \brief Host bookkeeping that maps the model back to bricks and triangles (outputs).
+/// \brief Host bookkeeping that maps the model back to bricks and triangles (outputs). The
+/// per-element and per-triangle arrays below number the whole specimen's elements (every rank
+/// holds them: they serve rank 0's outputs); a rank's model rows map into them by the
+/// *_global arrays at the end (the identity in one process).
 struct HostMap {
   std::vector<int> brick_elem;       ///< CSR: elements of brick b are [brick_elem[b], brick_elem[b+1])
   std::vector<int> tri_elem, tri_brick;        ///< per output triangle: element, brick
@@ -146,12 +157,22 @@ struct HostMap {
   std::vector<int> type_nodes;
   std::vector<double> type_x, type_y;          ///< [type * kMaxNodes + node]
   std::vector<double> cx, cy;                  ///< per brick centroid
-  std::vector<int> iface_geom;                 ///< model interface i < n_mortar -> the geometry's interface index
+  std::vector<int> iface_geom;                 ///< whole-model interface i < n_mortar -> the geometry's interface index
+
+  // ---- this rank's model rows in the whole model's numbering, and which it owns (all in one process)
+  int n_elem = 0, n_iface = 0, n_mortar = 0, n_driven = 0;  ///< the whole model's counts
+  std::vector<int> elem_global, iface_global, driven_global;  ///< model row -> the whole model's row
+  std::vector<char> elem_owned, iface_owned, driven_owned;    ///< model row: this rank owns it
 };
 
-/// \brief Build the model of `p.method` for a specimen (host assembly, then upload).
+/// \brief Build the model of `p.method` for a specimen (host assembly, then upload). With a
+/// decomposition `part` (MPI runs) the model holds the elements of that rank's owned and halo
+/// bricks and the interfaces with an owned element, in the whole model's order (so an element's
+/// gather adds its interfaces' rows in the one-process order: the same bits); the whole model is
+/// assembled on the host first, so element types, sliver scaling, the step estimate and the
+/// interface order are the one-process ones.
 Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const deck::Mortar& mortar, HostMap& map);
+                    const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part = nullptr);
 
 /// \brief Cauchy stress (xx, yy, xy) of a CST with nodes (x, y), CCW, nodal displacements u
 /// (6), plane stress E, nu, isotropic eigenstrain eps_th (host; element.cpp). Plain arrays so

@@ -9,6 +9,7 @@
 #include <nacre/core/backend.hpp>
 #include <nacre/dyn/params.hpp>
 #include <nacre/geometry/specimen.hpp>
+#include <nacre/par/comm.hpp>
 
 #include <Kokkos_Core.hpp>
 
@@ -127,9 +128,14 @@ using StateArrays = std::map<std::string, std::vector<double>>;
 class Simulation {
 public:
   /// \brief Builds the model and the state at t = 0 on `space` (the instance every later call of
-  /// this run uses unless advance names another).
+  /// this run uses unless advance names another). Spread over the ranks of `comm` (more than one:
+  /// MPI) each rank holds its part (par::Decomposition: its bricks and a one-brick halo, halo.hpp)
+  /// and every member below is collective: every rank calls it, in the same order. Results are the
+  /// one-process bits on every rank; the whole-specimen arrays (snapshot, interface_damage,
+  /// save_state) land on rank 0, the other ranks get them empty. restore_state takes the whole
+  /// arrays on every rank, so a state saved on N ranks restores on M.
   Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-             const deck::Mortar& mortar);
+             const deck::Mortar& mortar, const par::Comm& comm = par::Comm{});
   /// \brief As above on `space` (an instance of the default execution space).
   Simulation(const Kokkos::DefaultExecutionSpace& space, const Params& p, const geometry::Specimen& s,
              const geometry::Interfaces& f, const deck::Mortar& mortar)

@@ -46,6 +46,9 @@ public:
   [[nodiscard]] int size() const { return size_; }
 
   [[nodiscard]] double max(double x) const;
+  /// \brief The largest x over the ranks and its loc; ties go to the smallest loc (MPI_MAXLOC),
+  /// as an arg-max over one process's indices in increasing order.
+  void max_loc(double& x, int& loc) const;
   [[nodiscard]] long long sum(long long x) const;
   /// \brief Element-wise sum over ranks of n long longs, in place.
   void sum(long long* x, int n) const;
