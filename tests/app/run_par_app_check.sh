@@ -16,8 +16,13 @@
 #     (charts off) on 1, 2 and 4 ranks; par_mc.toml rotated by 30 degrees with the reversible law
 #     and "auto" on 2 and 4 ranks, with the block-Jacobi preconditioner on 2, and stopped on 2
 #     ranks, continued on 4;
-#  8. what is not spread over ranks yet is refused before anything is written, naming the deck
-#     key: the anneal polish, a [dynamics] deck, `nacre sweep`.
+#  8. the dynamics (src/dyn, dyn/halo.hpp): the README's decks inputs/dynamic.toml (BE) and
+#     inputs/dynamic_bie.toml (BIE, split step), charts off, on 1, 2 and 4 ranks;
+#     tests/app/par_dyn.toml (a 20-degree wall, irreversible damage, ruptures) on 2 and 4 ranks, UE
+#     and the iterated BIE step with damping on 2; par_dyn stopped on 2 ranks and continued on 4
+#     against one process stopped and continued (its checkpoint is one process's, bit for bit);
+#  9. what is not spread over ranks yet is refused before anything is written, naming the deck
+#     key: the anneal polish, --critical-step, `nacre sweep`.
 #   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"; mpiexec="$4"; npflag="$5"; shift 5
@@ -112,6 +117,36 @@ else
   bad "Newton: stop on 2 ranks, continue on 4: $(tail -3 rh2.txt rx4.txt)"
 fi
 
+# the dynamics: the README's decks, then a rotated wall with irreversible damage
+for dk in dynamic dynamic_bie; do
+  sed 's/^charts = true/charts = false/' "$src/inputs/$dk.toml" > "$dk.toml"
+  grep -q '^charts = false' "$dk.toml" || printf 'charts = false\n' >> "$dk.toml"  # [output] is last
+  "$exe" "$dk.toml" -o "${dk}_one" -q || bad "$dk, one process: exit $?"
+  for n in 1 2 4; do
+    if run_np "$n" "$dk.toml" -o "${dk}_$n" -q > "${dk}_$n.txt" 2>&1; then same "${dk}_one" "${dk}_$n"
+    else bad "$dk on $n ranks: exit $?: $(tail -3 "${dk}_$n.txt")"; fi
+  done
+done
+dyn="$src/tests/app/par_dyn.toml"
+"$exe" "$dyn" -o y1 -q || bad "par_dyn, one process: exit $?"
+grep -Eq '"ruptured": [1-9]' y1/summary.json && ok "par_dyn: joints ruptured" || bad "par_dyn: no rupture (the test would not cover damage)"
+for n in 2 4; do
+  if run_np "$n" "$dyn" -o "y$n" -q > "y$n.txt" 2>&1; then same y1 "y$n"; else bad "par_dyn on $n ranks: exit $?: $(tail -3 "y$n.txt")"; fi
+done
+sed -e 's/^method = "be"/method = "ue"/' -e 's/^end_time = 4.0e-6/end_time = 1.0e-6/' "$dyn" > dyn_ue.toml  # (UE: 6x the steps)
+sed 's/^method = "be"/method = "bie"\nbie_iterations = 2/' "$dyn" > dyn_bie.toml  # iterated, damped: the app bisects too
+for v in ue bie; do
+  "$exe" "dyn_$v.toml" -o "yv1_$v" -q || bad "par_dyn $v, one process: exit $?"
+  if run_np 2 "dyn_$v.toml" -o "yv2_$v" -q > "yv2_$v.txt" 2>&1; then same "yv1_$v" "yv2_$v"
+  else bad "par_dyn $v on 2 ranks: exit $?: $(tail -3 "yv2_$v.txt")"; fi
+done
+sed 's/^end_time = 4.0e-6/end_time = 2.0e-6/' "$dyn" > dyn_half.toml
+"$exe" dyn_half.toml -o yh1 -q || bad "par_dyn half, one process: exit $?"
+if run_np 2 dyn_half.toml -o yh2 -q > yh2.txt 2>&1; then same yh1 yh2; else bad "par_dyn half on 2 ranks: exit $?"; fi
+"$exe" "$dyn" -o yx1 -q --restart yh1/checkpoint.h5 --extend || bad "par_dyn continued on one process: exit $?"
+if run_np 4 "$dyn" -o yx4 -q --restart yh2/checkpoint.h5 --extend > yx4.txt 2>&1; then same yx1 yx4
+else bad "par_dyn: stop on 2 ranks, continue on 4: exit $?: $(tail -3 yx4.txt)"; fi
+
 expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
   local pat="$1"; shift
   rm -rf refused
@@ -136,7 +171,7 @@ if [ "$got" -eq 2 ] && grep -aq "rank 1 of 2" err.txt && grep -aq "missing.toml"
 else
   bad "a refusal of rank 1 alone: exit $got, $( [ -e refused ] && echo 'output written, ')$(tr '\n' ' ' < err.txt | head -c 300)"
 fi
-expect_np '\[dynamics\] decks run on one rank' "$src/tests/app/tiny_dynamic.toml"
+expect_np 'critical-step runs on one process' "$src/tests/app/tiny_dynamic.toml" --critical-step
 rm -rf refused
 run_np 2 sweep "$src/tests/app/tiny.toml" --set random.seed=1,2 -o refused > out.txt 2> err.txt; got=$?
 [ "$got" -ne 0 ] && grep -q "nacre sweep runs on one rank" err.txt && [ ! -e refused ] && ok "2 ranks sweep refused" \
