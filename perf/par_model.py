@@ -34,6 +34,31 @@ def fit_halo(rows):
     return num / den
 
 
+def dynamics_model(a, c, nb):
+    """The dynamic step over ranks (docs/scaling.md "Dynamics over ranks"): per step the method's
+    GPU step, its halo exchanges (each: a latency per neighbour, the bytes over the network, two
+    host copies, pack and unpack launches) and, every 32 steps, the books' reproducible sums."""
+    fits = {  # method: (t0 s, bricks/s, bytes per halo brick, exchanges per step)
+        "BE": (1.20e-3 - 981414 / ((3921092 - 981414) / (4.39e-3 - 1.20e-3)), (3921092 - 981414) / (4.39e-3 - 1.20e-3), 80, 1),
+        "BIE": (2.52e-3 - 981414 / ((3921092 - 981414) / (9.68e-3 - 2.52e-3)), (3921092 - 981414) / (9.68e-3 - 2.52e-3), 80, 2),
+        "UE": (0.0, 981414 / 2.39e-3, 192, 1),
+    }
+    rows = []
+    for method in ("BE", "BIE", "UE"):
+        t0, R, row_bytes, exchanges = fits[method]
+        for label, per_rank in (("weak, 1M bricks per GPU", 1_000_000), ("weak, 40k bricks per GPU", 40_000)):
+            for P in (1, 8, 1000):
+                comp = t0 + per_rank / R
+                if P == 1:
+                    halo = red = 0.0
+                else:
+                    b = c * math.sqrt(per_rank) * row_bytes
+                    halo = exchanges * (nb * a.alpha + b / a.beta + 2 * a.stage + 2 * b / a.pcie + 2 * a.launch)
+                    red = 7 * 3 * math.ceil(math.log2(P)) * a.alpha / 32
+                rows.append((f"dyn {method} {label}", P, per_rank, comp, halo, red, comp / (comp + halo + red)))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out")
@@ -88,6 +113,21 @@ def main():
         f.write("| case | ranks | bricks/rank | compute ms | halo ms | reduce ms | efficiency |\n|---|---|---|---|---|---|---|\n")
         for r in out_rows:
             f.write(f"| {r[0]} | {r[1]} | {r[2]:,} | {r[3] * 1e3:.3f} | {r[4] * 1e3:.3f} | {r[5] * 1e3:.3f} | {r[6]:.2f} |\n")
+    dyn_rows = dynamics_model(a, c, nb)
+    with open(os.path.join(a.out, "model.md"), "a") as f:
+        f.write("\nDynamics (one halo exchange of u per interface-force pass, dyn/halo.hpp): time per step.\n"
+                "GPU step fits (H200, docs/gpu.md): BE t = 0.13 ms + n / 0.92 G bricks/s "
+                "(981,414: 1.20 ms, 3,921,092: 4.39 ms); BIE split t = 0.29 ms + n / 0.44 G bricks/s "
+                "(2.52, 9.68 ms); UE n / 0.41 G bricks/s (one point). Halo row: the halo brick's elements' u "
+                "(BE, BIE 80 B, UE 192 B); exchanges per step: BE, UE 1, BIE 2; the books' sums every "
+                "32 steps (7 reproducible sums).\n\n")
+        f.write("| case | ranks | bricks/rank | compute ms | halo ms | reduce ms | efficiency |\n|---|---|---|---|---|---|---|\n")
+        for r in dyn_rows:
+            f.write(f"| {r[0]} | {r[1]} | {r[2]:,} | {r[3] * 1e3:.3f} | {r[4] * 1e3:.3f} | {r[5] * 1e3:.3f} | {r[6]:.2f} |\n")
+    with open(os.path.join(a.out, "model.csv"), "a", newline="") as f:
+        w = csv.writer(f)
+        for r in dyn_rows:
+            w.writerow([r[0], r[1], r[2], f"{r[3]:.4g}", f"{r[4]:.4g}", f"{r[5]:.4g}", f"{r[6]:.3f}"])
     try:
         import matplotlib
         matplotlib.use("Agg")

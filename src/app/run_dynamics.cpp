@@ -440,7 +440,12 @@ private:
     j["seconds"] = elapsed();
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
-    if (!writer_) return;  // (ruptured, read_crack: every rank)
+    j["ranks"] = comm_.size();
+    const long long halo = sim.halo_bytes();  // (every rank)
+    const long n = sim.steps() - step0_;
+    j["halo_bytes_per_exchange"] = halo;
+    j["halo_exchanges_per_step"] = n > 0 ? static_cast<double>(sim.halo_exchanges()) / static_cast<double>(n) : 0.0;
+    if (!writer_) return;  // (ruptured, read_crack, halo_bytes: every rank)
     // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
     writer_->summary(j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
   }

@@ -879,6 +879,10 @@ int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
 double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added; }
 double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
+long long Simulation::halo_bytes() const {
+  return impl_->comm.sum(impl_->halo ? impl_->halo->bytes() : 0LL);
+}
+long long Simulation::halo_exchanges() const { return impl_->halo ? impl_->halo->exchanges() : 0; }
 
 double critical_step(const Backend& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                      const deck::Mortar& mortar, long steps, double rtol) {

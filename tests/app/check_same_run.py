@@ -23,7 +23,8 @@ if "--steps-from" in argv:  # (the table: a restart into another directory copie
 a, b = argv
 fail = []
 MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_messages",
-           "seconds_per_step", "device_bytes"}  # (dynamics: device_bytes is one rank's memory)
+           "seconds_per_step", "device_bytes",  # (dynamics: device_bytes is one rank's memory)
+           "halo_bytes_per_exchange", "halo_exchanges_per_step"}
 
 
 def rows(path):

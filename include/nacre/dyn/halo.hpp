@@ -89,12 +89,14 @@ public:
     if (!direct) Kokkos::deep_copy(space, recv_buf_, recv_host_);
     unpack(space);
     space.fence("nacre::dyn::halo_unpack");
+    ++exchanges_;
   }
 
-  /// \brief Bytes one exchange sends from this rank.
+  /// \brief Bytes one exchange sends from this rank, and the exchanges made so far.
   [[nodiscard]] long long bytes() const {
     return static_cast<long long>(send_off_.back()) * words_ * static_cast<long long>(sizeof(double));
   }
+  [[nodiscard]] long long exchanges() const { return exchanges_; }
 
   // (public: nvcc names them in device lambdas)
   template <class ExecutionSpace>
@@ -127,6 +129,7 @@ private:
   std::vector<int> neighbours_, send_off_, recv_off_;
   Rows u_;
   int words_;
+  mutable long long exchanges_ = 0;
   Kokkos::View<int*, MemorySpace> send_, recv_;  ///< model elements, neighbours concatenated
   Buffer send_buf_, recv_buf_;
   typename Buffer::host_mirror_type send_host_, recv_host_;

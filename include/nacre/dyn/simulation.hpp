@@ -211,6 +211,11 @@ public:
   /// \brief The elements' part of the step bound with the scaling over without it (1: none).
   [[nodiscard]] double sliver_step_gain() const;
   [[nodiscard]] std::size_t bricks() const;
+  /// \brief Spread over ranks (0 in one process): the bytes one halo exchange sends, all ranks
+  /// together (collective), and the exchanges this run has made (UE, BE: one a step; BIE: one per
+  /// interface evaluation and one after a step whose last update follows its last evaluation).
+  [[nodiscard]] long long halo_bytes() const;
+  [[nodiscard]] long long halo_exchanges() const;
 
   /// \brief BIE only (0 otherwise): largest 1-norm condition number of the per-type Jacobians
   /// J of eq. 4.7 in dimensionless form D J D^-1, D = diag(I, h I), checked at start-up.
