@@ -674,7 +674,8 @@ void restrict_to_part(Build& B) {
     m.iface_owned = mask("iface_owned", map.iface_owned);
     m.driven_owned = mask("driven_owned", map.driven_owned);
   }
-  if (B.mortar.damage == cohesive::Damage::irreversible)
+  m.irreversible = B.mortar.damage == cohesive::Damage::irreversible;
+  if (m.irreversible)
     m.hist = decltype(m.hist)("nacre::dyn::history", m.n_mortar, m.quad.n);  // zero: no separation seen
 }
 

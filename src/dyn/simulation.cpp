@@ -754,7 +754,7 @@ StateArrays Simulation::save_state() const {
   s["a"] = gather_rows(I.comm, I.a, M.elem_global, M.elem_owned, ne);
   s["acc"] = gather_rows(I.comm, I.acc, M.elem_global, M.elem_owned, ne);
   s["dacc"] = gather_rows(I.comm, I.dacc, M.driven_global, M.driven_owned, std::max<std::size_t>(M.n_driven, 1));
-  if (I.m.hist.data()) {  // irreversible damage (optional array): the bed/head rows
+  if (I.m.irreversible) {  // irreversible damage (optional array): the bed/head rows (a collective: the deck decides)
     const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
     s["history"] = gather_rows(I.comm, I.m.hist, rows, M.iface_owned, static_cast<std::size_t>(M.n_mortar));
   }
@@ -795,7 +795,7 @@ void Simulation::restore_state(const StateArrays& a) {
   scatter_rows(I.comm, I.a, a.at("a"), M.elem_global, ne, "a");
   scatter_rows(I.comm, I.acc, a.at("acc"), M.elem_global, ne, "acc");
   scatter_rows(I.comm, I.dacc, a.at("dacc"), M.driven_global, std::max<std::size_t>(M.n_driven, 1), "dacc");
-  if (I.m.hist.data() != nullptr) {
+  if (I.m.irreversible) {
     if (!a.count("history"))
       throw std::runtime_error(
           "dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "

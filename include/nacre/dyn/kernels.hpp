@@ -17,6 +17,7 @@
 #include <nacre/cohesive/damage.hpp>
 #include <nacre/core/assert.hpp>
 #include <nacre/core/deterministic_sum.hpp>
+#include <nacre/dyn/halo.hpp>  // MPI runs refresh the halo's u before every interface force pass
 #include <nacre/dyn/model.hpp>
 
 #include <type_traits>
@@ -78,8 +79,6 @@ enum DrivenCol : int { kReact = 0, kEnergyPrev = 1, kGPrev = 2, kDampPowPrev = 3
 
 template <class MemorySpace>
 using DofView = typename Model<MemorySpace>::Dof;
-template <class MemorySpace>
-class ElementHalo;  // halo.hpp: MPI runs refresh the halo's u before every interface force pass
 /// \brief A rank's rows of a sum (MPI runs): term(i) where mask(i), 0 elsewhere; an empty mask
 /// (one process) counts every row. The rows a rank does not own are never evaluated.
 template <class MemorySpace, class Term>

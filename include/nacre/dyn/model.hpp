@@ -126,6 +126,7 @@ struct Model {
   /// Empty with the reversible law (and internal joints, which never leave the elastic range,
   /// have no row). LayoutRight: an interface's few points are read together.
   Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace> hist;
+  bool irreversible = false;  ///< the run keeps the history (on ranks: even where this rank's part has no row)
 
   // ---- a rank's part of the specimen (MPI runs; empty in one process): 1 where this rank owns
   // the element / the interface (by its side a) / the driven row, the rows its sums count (each
