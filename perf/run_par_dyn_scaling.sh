@@ -16,7 +16,7 @@ trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,sm
 export OMP_NUM_THREADS=1 OMP_PROC_BIND=false OMP_WAIT_POLICY=passive
 # deck SRC SCALE_X SCALE_Y STEPS OUT.toml: the deck widened by SCALE_X and SCALE_Y (bricks, notch),
-# STEPS steps of its dt, charts off
+# about STEPS steps of its dt (the run takes 0.8 of its own critical step), charts off
 deck() {
   python3 - "$@" <<'PY'
 import re, sys
@@ -27,6 +27,9 @@ t = re.sub(r"^width = .*", f"width = {get('width') * sx:.6g}", t, flags=re.M)
 t = re.sub(r"^height = .*", f"height = {get('height') * sy:.6g}", t, flags=re.M)
 t = re.sub(r"^notch_length = .*", f"notch_length = {get('notch_length') * sx:.6g}", t, flags=re.M)
 t = re.sub(r"^end_time = .*", f"end_time = {get('dt') * steps:.9g}", t, flags=re.M)
+if get("ramp_time") > 0.5 * get("dt") * steps:  # (the ramp within the run)
+    t = re.sub(r"^ramp_time = .*", f"ramp_time = {0.5 * get('dt') * steps:.9g}", t, flags=re.M)
+t = re.sub(r"^dt = .*", "dt_fraction = 0.8  # (the widened deck's edge pieces set its step)", t, flags=re.M)
 t = re.sub(r"^csv_interval = .*", "csv_interval = 50", t, flags=re.M)
 t = re.sub(r"^dump_interval = .*", "dump_interval = 0", t, flags=re.M)
 t = re.sub(r"^charts = .*\n", "", t, flags=re.M) + "charts = false\n"
