@@ -140,6 +140,8 @@ io::Checkpoint to_named(const DynCheckpoint& c, const deck::Deck& d) {
   k.reals["time"] = c.time;
   k.reals["dt"] = c.dt;
   k.reals["end_time"] = c.end_time;
+  k.reals["critical_step"] = c.critical_step;
+  k.reals["worst_balance_residual"] = c.worst_balance;
   k.arrays = c.state;
   return k;
 }
@@ -156,6 +158,8 @@ DynCheckpoint read_dyn_checkpoint(const std::filesystem::path& path, const deck:
   c.time = k.real("time");
   c.dt = k.real("dt");
   c.end_time = k.reals.count("end_time") ? k.real("end_time") : 0.0;  // 0: an older nacre's checkpoint
+  c.critical_step = k.reals.count("critical_step") ? k.real("critical_step") : 0.0;
+  c.worst_balance = k.reals.count("worst_balance_residual") ? k.real("worst_balance_residual") : 0.0;
   char b[160];
   if (!(c.dt > 0) || !std::isfinite(c.dt) || c.step < 0 || !(c.time >= 0) || !std::isfinite(c.time)) {
     std::snprintf(b, sizeof b, ": dt = %.6g s, step = %ld, t = %.6g s out of range", c.dt, c.step, c.time);

@@ -46,6 +46,10 @@ struct DynCheckpoint {
   /// the fingerprint (nacre.backend), which refuses the restart by name.
   std::string backend;
   dyn::StateArrays state;
+  /// The run's books a restart carries into its summary.json (0: an older checkpoint): the
+  /// critical step a dt_fraction deck took its dt from, the largest balance residual of the rows
+  /// so far.
+  double critical_step = 0, worst_balance = 0;
 };
 
 /// \brief The checkpoint as named arrays with the deck's physics fingerprint.

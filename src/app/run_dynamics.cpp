@@ -283,6 +283,7 @@ private:
     if (!restart.empty()) {
       cp_ = validated_dyn_checkpoint(d_, restart, opt_.extend);
       p_.dt = cp_.dt;  // the run continues with the step it started with
+      h_crit_ = cp_.critical_step, worst_balance_ = cp_.worst_balance;  // (its summary: the whole run's)
     }
     const bool from_fraction = restart.empty() && D_.dt <= 0;
     if (from_fraction) p_.dt = 1e-9;  // replaced below, before the first step
@@ -384,6 +385,8 @@ private:
     c.method = method_name(p_.method);
     c.backend = session_.backend().name();
     c.state = sim_->save_state();
+    c.critical_step = h_crit_;
+    c.worst_balance = worst_balance_;
     return c;
   }
 

@@ -759,11 +759,12 @@ StateArrays Simulation::save_state() const {
     s["history"] = gather_rows(I.comm, I.m.hist, rows, M.iface_owned, static_cast<std::size_t>(M.n_mortar));
   }
   // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
-  // changes, the step of the time base, and the energy the books do not account for (a restore
-  // that finds another value was set by hand)
+  // changes, the step of the time base, the energy the books do not account for (a restore
+  // that finds another value was set by hand), and the growth monitor's longest run so far
   const double unaccounted = I.unaccounted(I.energies());
   s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t_base, I.p.dt, I.report.bound_start, I.e_in,
-                static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base), unaccounted};
+                static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base), unaccounted,
+                static_cast<double>(I.report.growth_longest)};
   s["shape"] = {static_cast<double>(I.map.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
                 static_cast<double>(I.map.n_iface)};
   return s;
@@ -783,8 +784,8 @@ void Simulation::restore_state(const StateArrays& a) {
       shape[2] != static_cast<double>(I.p.method) || shape[3] != I.map.n_iface)
     throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
   const auto& clock = a.at("clock");
-  if (clock.size() != 3 && clock.size() != 10)
-    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 (older nacre) or 10 values");
+  if (clock.size() != 3 && clock.size() != 10 && clock.size() != 11)
+    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 or 10 (older nacre) or 11 values");
   if (clock[1] != I.dt0)
     throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
                              " s, this run has dt = " + std::to_string(I.p.dt) + " s");
@@ -806,11 +807,12 @@ void Simulation::restore_state(const StateArrays& a) {
     throw std::runtime_error("dyn::restore_state: the saved state has a damage history, this run's law is reversible");
   }
   I.step = static_cast<long>(clock[0]);
-  const bool v8 = clock.size() == 10;  // nacre >= the stability monitor: time base, dt, bound, E_in
+  const bool v8 = clock.size() >= 10;  // nacre >= the stability monitor: time base, dt, bound, E_in
   if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
   I.t_base = v8 ? clock[3] : 0.0;
   I.step_base = v8 ? static_cast<long>(clock[8]) : 0;
   if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
+  if (clock.size() == 11) I.report.growth_longest = static_cast<int>(clock[10]);  // (a restart's summary: the whole run's)
   const double e_in_saved = v8 ? clock[6] : 0.0;
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
   // then the mechanical energy not accounted for by work and dissipation becomes the reference,

@@ -21,6 +21,8 @@
 #     tests/app/par_dyn.toml (a 20-degree wall, irreversible damage, ruptures) on 2 and 4 ranks, UE
 #     and the iterated BIE step with damping on 2; par_dyn stopped on 2 ranks and continued on 4
 #     against one process stopped and continued (its checkpoint is one process's, bit for bit);
+#     SIGTERM to rank 1 of a dynamic run: all ranks stop after the same row, one process continues
+#     it to the uninterrupted run's files;
 #  9. what is not spread over ranks yet is refused before anything is written, naming the deck
 #     key: the anneal polish, --critical-step, `nacre sweep`.
 #   run_par_app_check.sh NACRE_EXE SOURCE_DIR WORK_DIR MPIEXEC NUMPROC_FLAG [MPIEXEC_FLAGS...]
@@ -146,6 +148,33 @@ if run_np 2 dyn_half.toml -o yh2 -q > yh2.txt 2>&1; then same yh1 yh2; else bad 
 "$exe" "$dyn" -o yx1 -q --restart yh1/checkpoint.h5 --extend || bad "par_dyn continued on one process: exit $?"
 if run_np 4 "$dyn" -o yx4 -q --restart yh2/checkpoint.h5 --extend > yx4.txt 2>&1; then same yx1 yx4
 else bad "par_dyn: stop on 2 ranks, continue on 4: exit $?: $(tail -3 yx4.txt)"; fi
+
+# SIGTERM to rank 1 of a dynamic run: every rank stops after the same row with the checkpoint,
+# and one process continues it to the uninterrupted run's files (summary.json included)
+sed 's/^end_time = 4.0e-6/end_time = 1.2e-5/' "$dyn" > dyn_long.toml
+"$exe" dyn_long.toml -o yl1 -q || bad "par_dyn long, one process: exit $?"
+timeout 240 "$mpiexec" "$npflag" 2 "${flags[@]}" "$exe" dyn_long.toml -o ys2 > ys2.txt 2>&1 &
+launcher=$!
+rank1=""
+for _ in $(seq 1 600); do
+  if [ -e ys2/dump_000000400.h5 ] && [ -z "$rank1" ]; then
+    for p in $(pgrep -f -- "dyn_long.toml -o ys2"); do
+      tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
+    done
+    [ -n "$rank1" ] && kill -TERM "$rank1"
+  fi
+  kill -0 "$launcher" 2>/dev/null || break
+  sleep 0.05
+done
+wait "$launcher"; rc=$?
+if [ -z "$rank1" ]; then
+  bad "dynamics, SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
+elif [ "$rc" -eq 143 ] && grep -q "SIGTERM received: stopped after step" ys2.txt && [ -e ys2/checkpoint.h5 ]; then
+  ok "dynamics, SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' ys2.txt)"
+  if "$exe" dyn_long.toml -o ys2 -q --restart ys2/checkpoint.h5; then same yl1 ys2; else bad "dynamics: continue on one process: exit $?"; fi
+else
+  bad "dynamics, SIGTERM to rank 1: exit $rc: $(tail -4 ys2.txt | tr '\n' ' ')"
+fi
 
 expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
   local pat="$1"; shift
