@@ -516,11 +516,12 @@ int main(int argc, char* argv[]) {
       return 2;
     }
     if (comm.size() > 1) {  // what is not yet spread over ranks says so now
-      std::string why =
-          critical ? d.path + ": --critical-step runs on one process (its trials are one-process runs); run it "
-                              "without mpirun"
-          : d.dynamics.enabled ? std::string()
-                               : mc::ranks_refusal(d, comm.size());
+      std::string why = critical
+                            ? d.path +
+                                  ": --critical-step runs on one process (its trials are one-process runs); run it "
+                                  "without mpirun"
+                        : d.dynamics.enabled ? std::string()
+                                             : mc::ranks_refusal(d, comm.size());
       if (!why.empty()) {
         std::cerr << "nacre: error: " << why << "\n";
         return 2;

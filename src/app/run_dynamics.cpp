@@ -231,9 +231,8 @@ class DynamicRun {
 public:
   DynamicRun(const deck::Deck& d, const DynRunOptions& opt)
       : d_(d), D_(d.dynamics), opt_(opt), comm_(opt.comm), root_(opt.comm.rank() == 0),
-        session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()),
-        setup_(build(d)), p_(dynamics_params(d, setup_.specimen.size())),
-        crack_(setup_.specimen, setup_.interfaces, d.geometry),
+        session_(d, opt.quiet, opt.tty, opt.backend), log_(session_.log()), setup_(build(d)),
+        p_(dynamics_params(d, setup_.specimen.size())), crack_(setup_.specimen, setup_.interfaces, d.geometry),
         rayleigh_(fracture::rayleigh_speed_plane_stress(p_.youngs_modulus, p_.poisson, p_.density)) {}
 
   int run() {
@@ -334,7 +333,7 @@ private:
 
   void open_writer() {
     dyn::Snapshot first = sim_->snapshot();  // (a gather: every rank)
-    if (!root_) return;  // rank 0 writes
+    if (!root_) return;                      // rank 0 writes
     fields_.emplace(setup_.specimen, setup_.interfaces, std::move(first));
     // series.csv and dumps named with 9 digits: names sort by step up to 1e9 steps (the limit)
     io::RunWriter::Options wo;
@@ -571,7 +570,7 @@ private:
     status_ = "interrupted";
     summary();
     if (!writer_) return 128 + sig;
-        return session_.stopped_by_signal(sig, "step " + std::to_string(step) + " (t = " + num(sim_->time()) + " s)",
+    return session_.stopped_by_signal(sig, "step " + std::to_string(step) + " (t = " + num(sim_->time()) + " s)",
                                       *writer_);
   }
 
@@ -593,7 +592,7 @@ private:
     summary();
     const int ruptured = sim_->ruptured();  // (every rank)
     if (!writer_) return 0;
-        if (log_)
+    if (log_)
       *log_ << "nacre: done in " << elapsed() << " s; " << sim_->steps() << " steps (" << seconds_per_step() * 1e6
             << " us/step), t = " << sim_->time() << " s, " << ruptured << " interfaces ruptured\n";
     return session_.complete(*writer_, "series.csv, nacre.xdmf, checkpoint.h5, summary.json", "nacre_dyn_plot.py");
@@ -604,7 +603,7 @@ private:
   const DynRunOptions& opt_;
   const par::Comm comm_;
   const bool root_;  ///< rank 0: logs and writes
-    RunSession session_;
+  RunSession session_;
   std::ostream* log_;
 
   const Setup setup_;

@@ -648,7 +648,8 @@ void restrict_to_part(Build& B) {
       const bool own = owns(r.a.elem);
       r.a.elem = local[r.a.elem], r.b.elem = local[r.b.elem];
       if (r.a.elem < 0 || r.b.elem < 0)
-        throw std::logic_error("dyn: interface " + std::to_string(i) + " of an owned element has an end outside the halo");
+        throw std::logic_error("dyn: interface " + std::to_string(i) +
+                               " of an owned element has an end outside the halo");
       kept.push_back(r);
       map.iface_global.push_back(i), map.iface_owned.push_back(own ? 1 : 0);
       nm += i < nmg;
@@ -662,8 +663,9 @@ void restrict_to_part(Build& B) {
   m.n_elem = B.ne;
   if (part) {  // the masks of the sums (empty in one process: every row counts)
     auto mask = [](const char* label, const std::vector<char>& x) {
-      Kokkos::View<std::uint8_t*> v(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label),
-                                    std::max<std::size_t>(x.size(), 1));
+      Kokkos::View<std::uint8_t*> v(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label),
+          std::max<std::size_t>(x.size(), 1));
       auto h = Kokkos::create_mirror_view(v);
       h(0) = 0;
       for (std::size_t k = 0; k < x.size(); ++k) h(k) = static_cast<std::uint8_t>(x[k]);

@@ -156,8 +156,7 @@ struct Simulation::Impl {
     // initial state's.
     backend.visit([&](const auto& space) {
       if (is_bie())
-        bie_accelerations(space, bie_integrator(), iop(), m.n_elem, m.n_iface,
-                          p.bie_scheme == BieScheme::split);
+        bie_accelerations(space, bie_integrator(), iop(), m.n_elem, m.n_iface, p.bie_scheme == BieScheme::split);
       // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
       // kinetic energy is counted as work done by the machine, so the balance starts closed.
       set_initial_work(space, integrator(), KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
@@ -170,8 +169,7 @@ struct Simulation::Impl {
 
   /// The tangent step bound (monitor.hpp) of the current state; BIE: interfaces only.
   StepBound<Mem> step_bound_op() const {
-    return StepBound<Mem>{iop(), m.type, m.goff, m.gent, m.drive, m.mass, m.klam, m.nd,
-                          !is_bie()};
+    return StepBound<Mem>{iop(), m.type, m.goff, m.gent, m.drive, m.mass, m.klam, m.nd, !is_bie()};
   }
   /// Evaluate the bound now into `report` (the controlling interface only when asked: a stop).
   void read_bound(bool where) {
@@ -227,9 +225,8 @@ struct Simulation::Impl {
   StepFn step_fn = nullptr;
   template <bool Tiled, class Ainv>
   static void verlet_of(const Impl& I, const Integrator<Mem>& it) {
-    I.backend.visit([&](const auto& s) {
-      verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, I.iop(), I.m.n_elem, I.m.n_iface);
-    });
+    I.backend.visit(
+        [&](const auto& s) { verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, I.iop(), I.m.n_elem, I.m.n_iface); });
   }
   static void bie_of(const Impl& I, const Integrator<Mem>& it) {
     auto bi = I.bie_integrator();
@@ -305,9 +302,8 @@ struct Simulation::Impl {
   // The books: every sum over this rank's owned rows, combined over the ranks (par::Reduce):
   // the bits of the one-process sum.
   double sum_acc(AccCol col) {
-    return backend.visit([&](const auto& space) {
-      return column_sum(space, ws, acc, col, m.n_elem, m.elem_owned, reduce(own_elem));
-    });
+    return backend.visit(
+        [&](const auto& space) { return column_sum(space, ws, acc, col, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double sum_driven(DrivenCol col) {
     return backend.visit([&](const auto& space) {
@@ -326,9 +322,8 @@ struct Simulation::Impl {
   }
   double cohesive() {
     const InterfaceOp<Mem> op = iop();
-    return backend.visit([&](const auto& space) {
-      return cohesive_energy(space, ws, op, m.n_iface, m.iface_owned, reduce(own_iface));
-    });
+    return backend.visit(
+        [&](const auto& space) { return cohesive_energy(space, ws, op, m.n_iface, m.iface_owned, reduce(own_iface)); });
   }
 
   /// The energy books now; the balance residual is (W + E_in - (S + K + C + D)) / max|term|.
@@ -411,8 +406,8 @@ struct Simulation::Impl {
         }
         now = comm.max(now);
         o << "element " << where << " (brick " << map.elem_brick[where] << ") energy share grew by more than "
-          << p.growth_factor << "x per " << kCheckEvery << "-step check in " << longest
-          << " checks in a row (now " << now << " of the specimen's strain + kinetic energy): a local instability";
+          << p.growth_factor << "x per " << kCheckEvery << "-step check in " << longest << " checks in a row (now "
+          << now << " of the specimen's strain + kinetic energy): a local instability";
         why = o.str();
         return Health::chunk_failure;
       }
@@ -647,7 +642,6 @@ void scatter_rows(const par::Comm& comm, const V& d, const std::vector<double>& 
 }
 }  // namespace
 
-
 Snapshot Simulation::snapshot() const {
   auto& I = *impl_;
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::snapshot");
@@ -762,8 +756,16 @@ StateArrays Simulation::save_state() const {
   // changes, the step of the time base, the energy the books do not account for (a restore
   // that finds another value was set by hand), and the growth monitor's longest run so far
   const double unaccounted = I.unaccounted(I.energies());
-  s["clock"] = {static_cast<double>(I.step), I.dt0, I.e_ref, I.t_base, I.p.dt, I.report.bound_start, I.e_in,
-                static_cast<double>(I.report.dt_changes), static_cast<double>(I.step_base), unaccounted,
+  s["clock"] = {static_cast<double>(I.step),
+                I.dt0,
+                I.e_ref,
+                I.t_base,
+                I.p.dt,
+                I.report.bound_start,
+                I.e_in,
+                static_cast<double>(I.report.dt_changes),
+                static_cast<double>(I.step_base),
+                unaccounted,
                 static_cast<double>(I.report.growth_longest)};
   s["shape"] = {static_cast<double>(I.map.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
                 static_cast<double>(I.map.n_iface)};
@@ -812,7 +814,8 @@ void Simulation::restore_state(const StateArrays& a) {
   I.t_base = v8 ? clock[3] : 0.0;
   I.step_base = v8 ? static_cast<long>(clock[8]) : 0;
   if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
-  if (clock.size() == 11) I.report.growth_longest = static_cast<int>(clock[10]);  // (a restart's summary: the whole run's)
+  if (clock.size() == 11)
+    I.report.growth_longest = static_cast<int>(clock[10]);  // (a restart's summary: the whole run's)
   const double e_in_saved = v8 ? clock[6] : 0.0;
   // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
   // then the mechanical energy not accounted for by work and dissipation becomes the reference,
@@ -881,9 +884,7 @@ int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
 double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added; }
 double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
 std::size_t Simulation::bricks() const { return impl_->n_bricks; }
-long long Simulation::halo_bytes() const {
-  return impl_->comm.sum(impl_->halo ? impl_->halo->bytes() : 0LL);
-}
+long long Simulation::halo_bytes() const { return impl_->comm.sum(impl_->halo ? impl_->halo->bytes() : 0LL); }
 long long Simulation::halo_exchanges() const { return impl_->halo ? impl_->halo->exchanges() : 0; }
 
 double critical_step(const Backend& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,

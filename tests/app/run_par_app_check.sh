@@ -34,6 +34,34 @@ rm -rf "$work"; mkdir -p "$work"; cd "$work"
 same() { if python3 "$src/tests/app/check_same_run.py" "$@" > same.txt 2>&1; then ok "$(cat same.txt)"; else bad "$(cat same.txt)"; fi; }
 run_np() { local n="$1"; shift; "$mpiexec" "$npflag" "$n" "${flags[@]}" "$exe" "$@"; }
 deck="$src/tests/app/par_mc.toml"
+# sigterm_rank1 DECK DIR FILE REF LABEL: DECK on 2 ranks into DIR, SIGTERM to rank 1 alone once FILE
+# exists; expect exit 143 with the checkpoint, then one process continues it to REF's files.
+# (a deadlock would end at 240 s with the launcher's exit 124, not at ctest's limit)
+sigterm_rank1() {
+  local dk="$1" dir="$2" file="$3" ref="$4" label="$5" rank1="" rc
+  timeout 240 "$mpiexec" "$npflag" 2 "${flags[@]}" "$exe" "$dk" -o "$dir" > "$dir.txt" 2>&1 &
+  local launcher=$!
+  for _ in $(seq 1 600); do
+    if [ -e "$file" ] && [ -z "$rank1" ]; then
+      for p in $(pgrep -f -- "$dk -o $dir"); do
+        tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
+      done
+      [ -n "$rank1" ] && kill -TERM "$rank1"
+    fi
+    kill -0 "$launcher" 2>/dev/null || break
+    sleep 0.05
+  done
+  wait "$launcher"; rc=$?
+  if [ -z "$rank1" ]; then
+    bad "${label}SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
+  elif [ "$rc" -eq 143 ] && grep -q "SIGTERM received: stopped after step" "$dir.txt" && [ -e "$dir/checkpoint.h5" ]; then
+    ok "${label}SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' "$dir.txt")"
+    if "$exe" "$dk" -o "$dir" -q --restart "$dir/checkpoint.h5"; then same "$ref" "$dir"
+    else bad "${label}continue on one process: exit $?"; fi
+  else
+    bad "${label}SIGTERM to rank 1: exit $rc: $(tail -4 "$dir.txt" | tr '\n' ' ')"
+  fi
+}
 
 "$exe" "$deck" -o one -q || bad "one process: exit $?"
 for n in 1 2 4; do
@@ -68,29 +96,7 @@ fi
 # SIGTERM to rank 1 only, once step 2's dump is written (the run has 15 steps)
 sed -e 's/^final_displacement = 0.028/final_displacement = 0.06/' -e 's/^DumpInter = 2/DumpInter = 1/' "$deck" > long.toml
 "$exe" long.toml -o l1 -q || bad "long deck, one process: exit $?"
-# (a deadlock would end here at 240 s with the launcher's exit 124, not at ctest's limit)
-timeout 240 "$mpiexec" "$npflag" 2 "${flags[@]}" "$exe" long.toml -o s2 > s2.txt 2>&1 &
-launcher=$!
-rank1=""
-for _ in $(seq 1 600); do
-  if [ -e s2/dump_00002.h5 ] && [ -z "$rank1" ]; then
-    for p in $(pgrep -f -- "long.toml -o s2"); do
-      tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
-    done
-    [ -n "$rank1" ] && kill -TERM "$rank1"
-  fi
-  kill -0 "$launcher" 2>/dev/null || break
-  sleep 0.05
-done
-wait "$launcher"; rc=$?
-if [ -z "$rank1" ]; then
-  bad "SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
-elif [ "$rc" -eq 143 ] && grep -q "SIGTERM received: stopped after step" s2.txt && [ -e s2/checkpoint.h5 ]; then
-  ok "SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' s2.txt)"
-  if "$exe" long.toml -o s2 -q --restart s2/checkpoint.h5; then same l1 s2; else bad "continue on one process: exit $?"; fi
-else
-  bad "SIGTERM to rank 1: exit $rc: $(tail -4 s2.txt | tr '\n' ' ')"
-fi
+sigterm_rank1 long.toml s2 s2/dump_00002.h5 l1 ""
 
 # trust-region Newton: the default deck, and a rotated wall with bursts of Monte Carlo
 sed 's/^charts = true/charts = false/' "$src/inputs/default.toml" > default.toml
@@ -153,28 +159,7 @@ else bad "par_dyn: stop on 2 ranks, continue on 4: exit $?: $(tail -3 yx4.txt)";
 # and one process continues it to the uninterrupted run's files (summary.json included)
 sed 's/^end_time = 4.0e-6/end_time = 1.2e-5/' "$dyn" > dyn_long.toml
 "$exe" dyn_long.toml -o yl1 -q || bad "par_dyn long, one process: exit $?"
-timeout 240 "$mpiexec" "$npflag" 2 "${flags[@]}" "$exe" dyn_long.toml -o ys2 > ys2.txt 2>&1 &
-launcher=$!
-rank1=""
-for _ in $(seq 1 600); do
-  if [ -e ys2/dump_000000400.h5 ] && [ -z "$rank1" ]; then
-    for p in $(pgrep -f -- "dyn_long.toml -o ys2"); do
-      tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -Eq '^(OMPI_COMM_WORLD_RANK|PMI_RANK)=1$' && rank1=$p
-    done
-    [ -n "$rank1" ] && kill -TERM "$rank1"
-  fi
-  kill -0 "$launcher" 2>/dev/null || break
-  sleep 0.05
-done
-wait "$launcher"; rc=$?
-if [ -z "$rank1" ]; then
-  bad "dynamics, SIGTERM: rank 1's process not found (the run ended first: exit $rc)"
-elif [ "$rc" -eq 143 ] && grep -q "SIGTERM received: stopped after step" ys2.txt && [ -e ys2/checkpoint.h5 ]; then
-  ok "dynamics, SIGTERM to rank 1 alone: exit $rc, $(grep -o 'stopped after step [0-9]*' ys2.txt)"
-  if "$exe" dyn_long.toml -o ys2 -q --restart ys2/checkpoint.h5; then same yl1 ys2; else bad "dynamics: continue on one process: exit $?"; fi
-else
-  bad "dynamics, SIGTERM to rank 1: exit $rc: $(tail -4 ys2.txt | tr '\n' ' ')"
-fi
+sigterm_rank1 dyn_long.toml ys2 ys2/dump_000000400.h5 yl1 "dynamics, "
 
 expect_np() {  # expect_np PATTERN ARGS...: refused on 2 ranks, nothing written
   local pat="$1"; shift

@@ -439,9 +439,10 @@ TEST_CASE("the dynamic solver spread over the MPI ranks of this run steps as one
     dyn::BieScheme scheme;
     bool damped;
   };
-  for (const Case c : {Case{dyn::Method::ue, dyn::BieScheme::iterate, true}, Case{dyn::Method::be, dyn::BieScheme::iterate, true},
-                       Case{dyn::Method::bie, dyn::BieScheme::split, true}, Case{dyn::Method::bie, dyn::BieScheme::iterate, false},
-                       Case{dyn::Method::bie, dyn::BieScheme::iterate, true}}) {
+  for (const Case c :
+       {Case{dyn::Method::ue, dyn::BieScheme::iterate, true}, Case{dyn::Method::be, dyn::BieScheme::iterate, true},
+        Case{dyn::Method::bie, dyn::BieScheme::split, true}, Case{dyn::Method::bie, dyn::BieScheme::iterate, false},
+        Case{dyn::Method::bie, dyn::BieScheme::iterate, true}}) {
     dyn::Params p = dyntest::params(100, c.method);
     p.bie_scheme = c.scheme;
     if (c.damped) dyn::table_4_2_damping(st.s.size(), 100, p.alpha_d, p.beta_d);

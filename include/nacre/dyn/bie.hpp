@@ -1112,12 +1112,10 @@ double bie_last_residual(const ExecutionSpace& space, SumWorkspace<MemOf<Executi
                          const Kokkos::View<const std::int8_t*, MemOf<ExecutionSpace>>& drive, int n_elem,
                          const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
                          const Combine& combine = {}) {
-  const double g = deterministic_sum(
-      space, "nacre::dyn::bie_residual_g", ws, 0, n_elem,
-      owned_term(mask, KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieG2) : 0.0; }), combine);
-  const double d = deterministic_sum(
-      space, "nacre::dyn::bie_residual_d", ws, 0, n_elem,
-      owned_term(mask, KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieD2) : 0.0; }), combine);
+  const auto g2 = KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieG2) : 0.0; };
+  const auto d2 = KOKKOS_LAMBDA(const int e) { return drive(e) == 0 ? acc(e, kBieD2) : 0.0; };
+  const double g = deterministic_sum(space, "nacre::dyn::bie_residual_g", ws, 0, n_elem, owned_term(mask, g2), combine);
+  const double d = deterministic_sum(space, "nacre::dyn::bie_residual_d", ws, 0, n_elem, owned_term(mask, d2), combine);
   return d > 0 ? Kokkos::sqrt(g / d) : 0.0;
 }
 

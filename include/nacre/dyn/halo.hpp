@@ -28,7 +28,7 @@ namespace nacre::dyn {
 template <class MemorySpace>
 class ElementHalo {
 public:
-  using Rows = typename Model<MemorySpace>::Dof;  ///< [element][dof]: the displacement u
+  using Rows = typename Model<MemorySpace>::Dof;                            ///< [element][dof]: the displacement u
   using Buffer = Kokkos::View<double**, Kokkos::LayoutRight, MemorySpace>;  ///< [record][dof]: contiguous messages
 
   /// \brief The lists of rank d.rank's model (built by build_model with &d, its host map `map`):
@@ -57,8 +57,8 @@ public:
     };
     const auto send = elements(d.send, send_off_), recv = elements(d.recv, recv_off_);
     auto upload = [](const char* label, const std::vector<int>& x) {
-      Kokkos::View<int*, MemorySpace> v(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label),
-                                        x.size());
+      Kokkos::View<int*, MemorySpace> v(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label), x.size());
       auto h = Kokkos::create_mirror_view(v);
       for (std::size_t k = 0; k < x.size(); ++k) h(k) = x[k];
       Kokkos::deep_copy(v, h);
@@ -79,7 +79,7 @@ public:
     static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemorySpace>::accessible,
                   "dyn::ElementHalo: the run's execution space must reach the model's memory");
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::halo_exchange");
-    pack(space);
+    copy_rows(space, "nacre::dyn::halo_pack", send_, send_buf_, true);
     constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemorySpace>::accessible;
     const bool direct = host || comm_.device_direct();
     if (!direct) Kokkos::deep_copy(space, send_host_, send_buf_);
@@ -87,7 +87,7 @@ public:
     comm_.exchange(neighbours_, direct ? send_buf_.data() : send_host_.data(), send_off_,
                    direct ? recv_buf_.data() : recv_host_.data(), recv_off_, words_);
     if (!direct) Kokkos::deep_copy(space, recv_buf_, recv_host_);
-    unpack(space);
+    copy_rows(space, "nacre::dyn::halo_unpack", recv_, recv_buf_, false);
     space.fence("nacre::dyn::halo_unpack");
     ++exchanges_;
   }
@@ -98,29 +98,22 @@ public:
   }
   [[nodiscard]] long long exchanges() const { return exchanges_; }
 
-  // (public: nvcc names them in device lambdas)
+  // (public: nvcc names it in a device lambda)
+  /// u's rows idx(k) into buf(k, :) (to_buffer: the pack) or back (the unpack); no fence
   template <class ExecutionSpace>
-  void pack(const ExecutionSpace& space) const {
-    const auto idx = send_;
-    const auto buf = send_buf_;
+  void copy_rows(const ExecutionSpace& space, const char* label, const Kokkos::View<int*, MemorySpace>& idx,
+                 const Buffer& buf, bool to_buffer) const {
     const auto u = u_;
     const int words = words_;
     Kokkos::parallel_for(
-        "nacre::dyn::halo_pack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, static_cast<int>(idx.extent(0))),
+        label, Kokkos::RangePolicy<ExecutionSpace>(space, 0, static_cast<int>(idx.extent(0))),
         KOKKOS_LAMBDA(const int k) {
-          for (int w = 0; w < words; ++w) buf(k, w) = u(idx(k), w);
-        });
-  }
-  template <class ExecutionSpace>
-  void unpack(const ExecutionSpace& space) const {
-    const auto idx = recv_;
-    const auto buf = recv_buf_;
-    const auto u = u_;
-    const int words = words_;
-    Kokkos::parallel_for(
-        "nacre::dyn::halo_unpack", Kokkos::RangePolicy<ExecutionSpace>(space, 0, static_cast<int>(idx.extent(0))),
-        KOKKOS_LAMBDA(const int k) {
-          for (int w = 0; w < words; ++w) u(idx(k), w) = buf(k, w);
+          for (int w = 0; w < words; ++w) {
+            if (to_buffer)
+              buf(k, w) = u(idx(k), w);
+            else
+              u(idx(k), w) = buf(k, w);
+          }
         });
   }
 

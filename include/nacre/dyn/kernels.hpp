@@ -675,12 +675,11 @@ void verlet_step(const ExecutionSpace& space, ElementTiles<Tiled> tiles, AinvFor
 /// the elements or DrivenAccView over the driven elements; on ranks the rows of `mask` (empty:
 /// all), combined by `combine` (par::Reduce: the one-process bits).
 template <class ExecutionSpace, class View, class Combine = sum::Local>
-double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const View& acc, int col,
-                  int n, const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
-                  const Combine& combine = {}) {
+double column_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const View& acc, int col, int n,
+                  const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {}, const Combine& combine = {}) {
   static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, typename View::memory_space>::accessible);
-  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n,
-                           owned_term(mask, KOKKOS_LAMBDA(const int e) { return acc(e, col); }), combine);
+  const auto term = KOKKOS_LAMBDA(const int e) { return acc(e, col); };
+  return deterministic_sum(space, "nacre::dyn::sum_acc", ws, 0, n, owned_term(mask, term), combine);
 }
 
 /// \brief Total cohesive energy (deterministic; mask and combine as column_sum's).
@@ -689,16 +688,15 @@ double cohesive_energy(const ExecutionSpace& space, SumWorkspace<MemOf<Execution
                        const InterfaceOp<MemOf<ExecutionSpace>>& op, int n_iface,
                        const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
                        const Combine& combine = {}) {
-  return deterministic_sum(space, "nacre::dyn::cohesive_energy", ws, 0, n_iface,
-                           owned_term(mask, KOKKOS_LAMBDA(const int i) { return op.energy(i); }), combine);
+  const auto term = KOKKOS_LAMBDA(const int i) { return op.energy(i); };
+  return deterministic_sum(space, "nacre::dyn::cohesive_energy", ws, 0, n_iface, owned_term(mask, term), combine);
 }
 
 /// \brief Sum of a per-element term functor (strain or kinetic energy), deterministic (mask and
 /// combine as column_sum's).
 template <class ExecutionSpace, class Term, class Combine = sum::Local>
-double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term,
-                   int n_elem, const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {},
-                   const Combine& combine = {}) {
+double element_sum(const ExecutionSpace& space, SumWorkspace<MemOf<ExecutionSpace>>& ws, const Term& term, int n_elem,
+                   const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {}, const Combine& combine = {}) {
   return deterministic_sum(space, "nacre::dyn::element_sum", ws, 0, n_elem, owned_term(mask, term), combine);
 }
 

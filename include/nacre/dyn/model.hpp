@@ -161,7 +161,7 @@ struct HostMap {
   std::vector<int> iface_geom;                 ///< whole-model interface i < n_mortar -> the geometry's interface index
 
   // ---- this rank's model rows in the whole model's numbering, and which it owns (all in one process)
-  int n_elem = 0, n_iface = 0, n_mortar = 0, n_driven = 0;  ///< the whole model's counts
+  int n_elem = 0, n_iface = 0, n_mortar = 0, n_driven = 0;    ///< the whole model's counts
   std::vector<int> elem_global, iface_global, driven_global;  ///< model row -> the whole model's row
   std::vector<char> elem_owned, iface_owned, driven_owned;    ///< model row: this rank owns it
 };
