@@ -88,6 +88,11 @@ struct Simulation::Impl {
   BieStepFn bie_step_fn = nullptr;
   BieStepPlan bie_plan;
   [[nodiscard]] bool is_bie() const { return p.method == Method::bie; }
+  /// The step's last update of u follows its last interface-force pass (bie_step: the iterated
+  /// scheme keeping the force of the previous iterate for its last iteration).
+  [[nodiscard]] bool moves_after_force() const {
+    return is_bie() && p.bie_scheme == BieScheme::iterate && p.bie_reuse_force && p.bie_iterations >= 2;
+  }
 
   template <class V>
   static V make(const std::string& l, std::size_t n0, std::size_t n1 = KOKKOS_IMPL_CTOR_DEFAULT_ARG) {
@@ -261,9 +266,10 @@ struct Simulation::Impl {
     it.D_prev = ramp.displacement(now(step));
     step_fn(*this, it);
     backend.visit([&](const auto& space) {
-      // BIE's last update moved u after its last force pass: the halo's u from its owners again
-      // (every later reading of an interface needs both ends); Verlet's force pass left it current
-      if (halo && is_bie()) halo->exchange(space);
+      // the iterated BIE step with the kept force moves u after its last force pass: the halo's u
+      // from its owners again (every later reading of an interface needs both ends); Verlet's
+      // and the split step's force pass left it current
+      if (halo && moves_after_force()) halo->exchange(space);
       update_history(space, iop(), m.n_mortar);  // irreversible damage: after every step
     });
     ++step;
