@@ -179,15 +179,8 @@ struct Simulation::Impl {
   /// Evaluate the bound now into `report` (the controlling interface only when asked: a stop).
   void read_bound(bool where) {
     const auto sb = step_bound_op();
-    const auto r = backend.visit([&](const auto& space) {
-      return arg_max<double>(space, "nacre::dyn::monitor::step_bound", m.n_elem, owned_term(m.elem_owned, sb));
-    });
-    // over the ranks: the largest value, the smallest whole-model element among ties (as one
-    // process's arg-max)
-    const bool found = r.val > 0 && r.loc >= 0 && r.loc < m.n_elem;
-    double val = found ? r.val : 0.0;
-    int loc = found ? map.elem_global[r.loc] : INT_MAX;
-    comm.max_loc(val, loc);
+    const auto [val, loc] = over_ranks(
+        backend.visit([&](const auto& space) { return dyn::step_bound(space, sb, m.n_elem, m.elem_owned); }), true);
     report.dt = p.dt;
     report.bound = val > 0 ? 2.0 / std::sqrt(val) : 0.0;
     report.element = val > 0 ? loc : -1;
@@ -209,6 +202,17 @@ struct Simulation::Impl {
 
   Integrator<Mem> integrator() const { return Integrator<Mem>(m, u, v, a, acc, dacc, iforce); }
 
+  /// A local arg-max over the owned elements as the whole run's: the largest value over the ranks
+  /// and its whole-model element, the smallest among ties (one process's arg-max); a rank
+  /// without an element (or, `positive`, without a positive value) offers (0, INT_MAX).
+  template <class R>
+  [[nodiscard]] std::pair<double, int> over_ranks(const R& r, bool positive) const {
+    const bool found = (!positive || r.val > 0) && r.loc >= 0 && r.loc < m.n_elem;
+    double val = found ? static_cast<double>(r.val) : 0.0;
+    int loc = found ? map.elem_global[r.loc] : INT_MAX;
+    comm.max_loc(val, loc);
+    return {val, loc};
+  }
   /// This rank's model element of whole-model element g, or -1.
   [[nodiscard]] int local_element(int g) const {
     const auto it = std::lower_bound(map.elem_global.begin(), map.elem_global.end(), g);
@@ -394,13 +398,8 @@ struct Simulation::Impl {
       const ElementGrowth<Mem> g{StrainEnergy<Mem>{m.type, m.K, u, m.nd},
                                  KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
                                  share, run, 1.0 / (e.strain + e.kinetic), p.growth_factor, kGrowthFloor};
-      const auto gl = backend.visit([&](const auto& space) {
-        return arg_max<int>(space, "nacre::dyn::monitor::element_growth", m.n_elem, owned_term(m.elem_owned, g));
-      });
-      const bool found = gl.loc >= 0 && gl.loc < m.n_elem;  // over the ranks as read_bound's
-      double runs = found ? gl.val : 0.0;
-      int where = found ? map.elem_global[gl.loc] : INT_MAX;
-      comm.max_loc(runs, where);
+      const auto [runs, where] = over_ranks(
+          backend.visit([&](const auto& space) { return element_growth(space, g, m.n_elem, m.elem_owned); }), false);
       const int longest = static_cast<int>(runs);
       report.growth_longest = std::max(report.growth_longest, longest);
       if (longest >= p.growth_checks) {

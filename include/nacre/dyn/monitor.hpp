@@ -102,11 +102,13 @@ typename Kokkos::MaxLoc<T, int>::value_type arg_max(const ExecutionSpace& space,
   return r;
 }
 
-/// \brief max over free elements of StepBound and the element that attains it.
+/// \brief max over free elements of StepBound and the element that attains it (on ranks: over
+/// the elements of `mask`, OwnedTerm; empty: all).
 template <class ExecutionSpace>
 Kokkos::MaxLoc<double, int>::value_type step_bound(const ExecutionSpace& space,
-                                                  const StepBound<MemOf<ExecutionSpace>>& sb, int n_elem) {
-  return arg_max<double>(space, "nacre::dyn::monitor::step_bound", n_elem, sb);
+                                                  const StepBound<MemOf<ExecutionSpace>>& sb, int n_elem,
+                                                  const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {}) {
+  return arg_max<double>(space, "nacre::dyn::monitor::step_bound", n_elem, owned_term(mask, sb));
 }
 
 /// \brief The interface that adds the most to element e's bound (its largest row), and the
@@ -166,8 +168,9 @@ struct ElementGrowth {
 /// element's share and run as it goes).
 template <class ExecutionSpace>
 Kokkos::MaxLoc<int, int>::value_type element_growth(const ExecutionSpace& space,
-                                                   const ElementGrowth<MemOf<ExecutionSpace>>& g, int n_elem) {
-  return arg_max<int>(space, "nacre::dyn::monitor::element_growth", n_elem, g);
+                                                   const ElementGrowth<MemOf<ExecutionSpace>>& g, int n_elem,
+                                                   const Kokkos::View<std::uint8_t*, MemOf<ExecutionSpace>>& mask = {}) {
+  return arg_max<int>(space, "nacre::dyn::monitor::element_growth", n_elem, owned_term(mask, g));
 }
 
 }  // namespace nacre::dyn
