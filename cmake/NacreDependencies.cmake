@@ -53,6 +53,19 @@ else()
                  "'kokkos-d1' colouring strategy, test_kokkos_kernels and nacre_perf_colouring")
 endif()
 
+# Optional: CHOLMOD (SuiteSparse) for the Newton preconditioner's sparse Cholesky, supernodal with
+# a nested-dissection ordering; without it Eigen's SimplicialLLT (AMD ordering) factorises.
+option(NACRE_ENABLE_CHOLMOD "Use CHOLMOD for the Newton factor when it is found" ON)
+if(NACRE_ENABLE_CHOLMOD AND NOT NACRE_BENCHMARKS_ONLY)
+  enable_language(C)  # CHOLMOD's package looks for OpenMP's C component
+  find_package(CHOLMOD CONFIG QUIET)
+endif()
+if(CHOLMOD_FOUND)
+  message(STATUS "nacre: CHOLMOD ${CHOLMOD_VERSION} found: the Newton factor is supernodal (METIS order)")
+else()
+  message(STATUS "nacre: CHOLMOD not found (set CHOLMOD_ROOT to use it): the Newton factor is Eigen's SimplicialLLT")
+endif()
+
 # nlohmann-json (header-only) for summary.json: its CMake package, or the headers (the
 # benchmarks-only build leaves the outputs out: src/CMakeLists.txt).
 if(NOT NACRE_BENCHMARKS_ONLY)

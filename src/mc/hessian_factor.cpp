@@ -3,20 +3,63 @@
 // the one-process numbering; on several ranks rank 0 alone holds the matrix and its factor.
 #include <nacre/mc/hessian_factor.hpp>
 
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#ifdef NACRE_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#else
+#include <Eigen/SparseCholesky>
+#endif
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
 namespace nacre::mc {
 
+namespace {
+#ifdef NACRE_HAVE_CHOLMOD
+/// CHOLMOD's supernodal LL^T in a nested-dissection order (METIS). Measured on the 20k-brick
+/// reference path (docs/speed_accuracy.md): 1.1 GFlop and 5.3M entries of L per factor with
+/// METIS against 1.6 GFlop and 6.1M with AMD; run time 80 / 101 / 124 CPU-s (METIS, AMD,
+/// Eigen's SimplicialLLT with AMD). A non-positive pivot ends the factor at once (the shift
+/// loop then tries the next sigma), and says nothing (an indefinite H is expected there).
+/// CHOLMOD's own threads are off: the factor's bits must not depend on the thread count (its
+/// BLAS must be single-threaded too: the dev root's OpenBLAS is the serial build).
+struct Factor : Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+  Factor() {
+    auto& c = cholmod();
+    c.quick_return_if_not_posdef = 1;
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_METIS;
+    c.postorder = 1;
+    c.print = 0;
+    c.nthreads_max = 1;
+  }
+  /// the ordering and symbolic factor; AMD where this CHOLMOD was built without METIS
+  void analyse(const Eigen::SparseMatrix<double>& H) {
+    analyzePattern(H);
+    if (cholmod().status == CHOLMOD_NOT_INSTALLED) {
+      cholmod().method[0].ordering = CHOLMOD_AMD;
+      analyzePattern(H);
+    }
+    if (cholmod().status < 0)
+      throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's analysis failed (status " +
+                               std::to_string(cholmod().status) + ")");
+  }
+};
+#else
+struct Factor : Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> {
+  void analyse(const Eigen::SparseMatrix<double>& H) { analyzePattern(H); }
+};
+#endif
+}  // namespace
+
 struct HessianFactor::Impl {
   Eigen::SparseMatrix<double> H, M;  // rank 0
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+  Factor llt;
   std::vector<int> off, adj, ends;              // host copies of the local adjacency (fixed for the run)
   par::Comm comm;                               // one process unless distribute()d
   std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
@@ -151,7 +194,7 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
     I.H.resize(n, n);
     I.H.setFromTriplets(t.begin(), t.end());  // duplicates (two joints between one pair) add up
     if (!I.analysed) {
-      I.llt.analyzePattern(I.H);
+      I.llt.analyse(I.H);
       I.analysed = true;
     }
     // H itself, else H + sigma diag(scale) with sigma growing tenfold from 1e-4

@@ -79,6 +79,8 @@ public:
     minv_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
     mblk_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
     md_ = vec("nacre::mc::newton::m_direction");
+    tangents_ = TangentView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::interface_tangents"),
+                              static_cast<std::size_t>(m.n_interfaces));
     constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
     if (pc == NewtonPreconditioner::cholesky && !host)
       throw std::invalid_argument(
@@ -165,6 +167,7 @@ private:
   static constexpr double kEtaMax = 0.05;  ///< loosest CG forcing term (the first Newton step)
   int last_cg_ = 0;                      ///< CG iterations of the last Newton step
   SlotBlockView<> slots_;
+  TangentView<> tangents_;  ///< H v's per-interface pass
 };
 
 // ---------------------------------------------------------------------------------- kernels
@@ -380,7 +383,7 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
   while (it < max_cg && ry > stop) {
     ++it;
     halo_rows(space, d);
-    hessian_vector(space, m, d, hd, mask());
+    hessian_vector(space, m, d, hd, mask(), tangents_);
     const double dhd = dot(space, ws, d, hd, nf);
     double dd = 0.0;
     const double zd = mdot_pair(space, ws, z, d, nf, dd);
@@ -463,7 +466,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2), one more product
     halo_rows(space, z);
-    hessian_vector(space, m, z, hd_, mask());
+    hessian_vector(space, m, z, hd_, mask(), tangents_);
     const double gs = dot(space, ws, grad, z, nf), sHs = dot(space, ws, z, hd_, nf);
     const double pred = -(gs + 0.5 * sHs);
     const double snorm = std::sqrt(mdot(space, ws, z, z, nf));
