@@ -104,6 +104,13 @@ def single(out):
     fig.savefig(os.path.join(out, "scaling.png"), dpi=120)
 
 
+def name_of(d, rows):
+    """the study's relaxation, or its directory's name where that says more (newton-eigen: the
+    same relaxation measured with another build)"""
+    base = os.path.basename(os.path.normpath(d))
+    return base if base.startswith(rows[0]["relaxation"]) else rows[0]["relaxation"]
+
+
 def compare(out, dirs):
     studies = [(d, load(d)) for d in dirs]
     studies = [(d, rows) for d, rows in studies if rows]
@@ -115,7 +122,7 @@ def compare(out, dirs):
                 "|---|---|---|---|---|---|---|\n")
         for d, rows in studies:
             fs = fits(rows)
-            f.write(f"| {rows[0]['relaxation']} | {', '.join(str(r['bricks']) for r in rows)} | "
+            f.write(f"| {name_of(d, rows)} | {', '.join(str(r['bricks']) for r in rows)} | "
                     f"{', '.join(f'{r['solve']:.1f}' for r in rows)} | {exponent(fs['solve'])} | "
                     f"{exponent(fs['cycles'])} | {exponent(fs['polish_iterations'])} | "
                     f"{exponent(fs['cg_iterations'])} |\n")
@@ -129,7 +136,7 @@ def compare(out, dirs):
     for k, (d, rows) in enumerate(studies):
         N = [r["bricks"] for r in rows]
         fs = fits(rows)
-        label = rows[0]["relaxation"] + (f" (N^{fs['solve'][0]:.2f})" if fs["solve"] else "")
+        label = name_of(d, rows) + (f" (N^{fs['solve'][0]:.2f})" if fs["solve"] else "")
         ax.loglog(N, [r["solve"] for r in rows], "o-", color=f"C{k}", label=label)
     ax.set_xlabel("bricks")
     ax.set_ylabel("solve CPU seconds (1 thread)")
