@@ -1,5 +1,5 @@
-// The factorised Newton preconditioner (include/nacre/mc/hessian_factor.hpp): Eigen's sparse
-// Cholesky on host memory. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in
+// The factorised Newton preconditioner (include/nacre/mc/hessian_factor.hpp): a sparse Cholesky
+// on host memory, CHOLMOD's through Eigen's wrapper where the build found it, else Eigen's own. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in
 // the one-process numbering; on several ranks rank 0 alone holds the matrix and its factor.
 #include <nacre/mc/hessian_factor.hpp>
 
