@@ -59,6 +59,7 @@ V[fixed-trial-steps]="s/^AdaptInter = .*/AdaptInter = 0/"
 V[per-brick]="$(solver_key 'step_mode = "per-brick"')"
 # trust-region Newton (relaxation = "newton"), and Newton with Monte Carlo bursts ("auto")
 V[newton-reference]="$(solver_key 'relaxation = "newton"\nresidual_tolerance = 1e-9');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
+V[newton-reference-double]="$(solver_key 'relaxation = "newton"\nresidual_tolerance = 1e-9\nfactor_precision = "double"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
 V[newton]="$(solver_key 'relaxation = "newton"')"
 V[newton-fixed]="$(solver_key 'relaxation = "newton"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.004/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.004/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.004/"
 V[newton-fine]="$(solver_key 'relaxation = "newton"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
@@ -66,7 +67,7 @@ V[auto]="$(solver_key 'relaxation = "auto"')"
 V[auto-fine]="$(solver_key 'relaxation = "auto"');s/^adaptive = .*/adaptive = false/;s/^MinLoadStepSize = .*/MinLoadStepSize = 0.002/;s/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.002/;s/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.002/"
 order=(reference reference-check mc-1e-9 monte-carlo default gradient-fire gradient-fire-fixed gradient-fire-fine window residual-1e-4 fixed-load no-predictor T1e-6 T1e-8
        window-loose window-tight window-T1e-6 residual-1e-8 fixed-trial-steps per-brick
-       newton-reference newton newton-fixed newton-fine auto auto-fine)
+       newton-reference newton-reference-double newton newton-fixed newton-fine auto auto-fine)
 [ -n "${NACRE_PARETO_VARIANTS:-}" ] && read -r -a order <<< "${NACRE_PARETO_VARIANTS//,/ }"
 
 run_variant() {

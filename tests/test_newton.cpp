@@ -4,6 +4,7 @@
 // by step with few iterations; the same bits on a repeat and on every backend; "auto" escaping
 // the ruptured plateau where the gradient (and Newton) stop.
 #include <nacre/mc/hessian.hpp>
+#include <nacre/mc/trust_region.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <catch2/catch_approx.hpp>
@@ -148,6 +149,56 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
       const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
       for (int r = 0; r < 3; ++r)
         CHECK(H(b, r) == Catch::Approx(hb(b, idx[r][c])).epsilon(1e-10).margin(1e-12 * std::abs(hb(b, 0))));
+    }
+  }
+  // Steihaug-CG's recurrences (trust_region.hpp): its model value q(s) against g.s + s.H s / 2
+  // from an H s of the step it returns, inside the region and on its boundary (there ||s||_M is
+  // the radius), for each preconditioner and both factor precisions. Away from equilibrium (the
+  // poses moved), and with the intact wall's factor (a stale one, as in a Newton step that does
+  // not refactor), so that CG takes several iterations
+  move(m, b0, random_dir(), 1e-5);
+  mc::GradientView<> g("nacre::test::g", nf), hs("nacre::test::hs", nf);
+  mc::brick_gradient(ExecSpace{}, m, g);
+  SumWorkspace<> ws;
+  struct Pc {
+    mc::NewtonPreconditioner pc;
+    mc::FactorPrecision precision;
+  };
+  for (const Pc pc : {Pc{mc::NewtonPreconditioner::automatic, mc::FactorPrecision::single},
+                      Pc{mc::NewtonPreconditioner::automatic, mc::FactorPrecision::double_precision},
+                      Pc{mc::NewtonPreconditioner::block_jacobi, mc::FactorPrecision::single}}) {
+    mc::TrustRegion<ExecSpace> tr(ExecSpace{}, m, pc.pc, pc.precision);
+    const double floor_t = 1e-8 * d.mortar.bed.k, floor_r = floor_t * d.geometry.brick_width * d.geometry.brick_width;
+    if (tr.has_factor())
+      tr.reference_factor(ExecSpace{}, m, floor_t, floor_r);
+    else
+      tr.precondition(ExecSpace{}, m, floor_t, floor_r);
+    const double g_norm = std::sqrt(tr.minv_norm2(ExecSpace{}, ws, g, nf));
+    // first a region CG stays inside, then one just short of its interior step (M-norm): CG's
+    // iterates grow in the M-norm, so it leaves the region after several iterations
+    double interior = 0.0;
+    for (const bool inside : {true, false}) {
+      const double radius = inside ? 1e3 * g_norm : 0.999 * std::sqrt(interior);
+      const auto cg = tr.steihaug(ExecSpace{}, m, g, radius, 1e-6, 200, ws);
+      mc::hessian_vector(ExecSpace{}, m, tr.step(), hs);
+      Host gh("g", nf), hsh("hs", nf);
+      Kokkos::deep_copy(gh, g), Kokkos::deep_copy(hsh, hs);
+      const auto sh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, tr.step());  // a row per brick
+      double gs = 0, shs = 0, size = 0;
+      for (int b = 0; b < nf; ++b)
+        for (int c = 0; c < 3; ++c)
+          gs += gh(b, c) * sh(b, c), shs += sh(b, c) * hsh(b, c), size += std::abs(gh(b, c) * sh(b, c));
+      INFO("preconditioner " << static_cast<int>(pc.pc) << ", precision " << static_cast<int>(pc.precision)
+                             << ", radius " << radius << ": " << cg.iterations << " CG iterations, boundary "
+                             << cg.on_boundary << ", q " << cg.model << " against " << gs + 0.5 * shs);
+      CHECK(cg.iterations >= 2);
+      CHECK(cg.model < 0.0);
+      CHECK(std::abs(cg.model - (gs + 0.5 * shs)) <= 1e-8 * size);
+      CHECK(cg.on_boundary == !inside);
+      if (inside)
+        interior = cg.snorm2;
+      else
+        CHECK(cg.snorm2 == Catch::Approx(radius * radius).epsilon(1e-10));
     }
   }
 }

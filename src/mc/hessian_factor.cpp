@@ -1,17 +1,19 @@
 // The factorised Newton preconditioner (include/nacre/mc/hessian_factor.hpp): a sparse Cholesky
-// on host memory, CHOLMOD's through Eigen's wrapper where the build found it, else Eigen's own. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in
-// the one-process numbering; on several ranks rank 0 alone holds the matrix and its factor.
+// on host memory, CHOLMOD's (its C interface, float or double) where the build found it, else
+// Eigen's own. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in the
+// one-process numbering; on several ranks rank 0 alone holds the matrix and its factor.
 #include <nacre/mc/hessian_factor.hpp>
 
 #include <Eigen/SparseCore>
 #ifdef NACRE_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
+#include <cholmod.h>
 #else
 #include <Eigen/SparseCholesky>
 #endif
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -21,45 +23,138 @@ namespace nacre::mc {
 
 namespace {
 #ifdef NACRE_HAVE_CHOLMOD
-/// CHOLMOD's supernodal LL^T in a nested-dissection order (METIS). Measured on the 20k-brick
-/// reference path (docs/speed_accuracy.md): 1.1 GFlop and 5.3M entries of L per factor with
-/// METIS against 1.6 GFlop and 6.1M with AMD; run time 80 / 101 / 124 CPU-s (METIS, AMD,
-/// Eigen's SimplicialLLT with AMD). A non-positive pivot ends the factor at once (the shift
-/// loop then tries the next sigma), and says nothing (an indefinite H is expected there).
-/// CHOLMOD's own threads are off: the factor's bits must not depend on the thread count (its
-/// BLAS must be single-threaded too: the dev root's OpenBLAS is the serial build).
-struct Factor : Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
-  Factor() {
-    auto& c = cholmod();
-    c.quick_return_if_not_posdef = 1;
-    c.nmethods = 1;
-    c.method[0].ordering = CHOLMOD_METIS;
-    c.postorder = 1;
-    c.print = 0;
-    c.nthreads_max = 1;
+/// CHOLMOD's supernodal LL^T in a nested-dissection order (METIS), through its C interface (Eigen's
+/// wrapper is double only). Measured on the 20k-brick reference path (docs/speed_accuracy.md):
+/// 1.1 GFlop and 5.3M entries of L per factor with METIS against 1.6 GFlop and 6.1M with AMD; run
+/// time 80 / 101 / 124 CPU-s (METIS, AMD, Eigen's SimplicialLLT with AMD). `single`: the factor
+/// and its solves in float (CHOLMOD 5), half the bytes a solve streams; the preconditioner only
+/// (CG's vectors, H v and the residual stay double). A non-positive pivot ends the factor at once
+/// (the shift loop then tries the next sigma), and says nothing (an indefinite H is expected
+/// there). CHOLMOD's own threads are off: the factor's bits must not depend on the thread count
+/// (its BLAS must be single-threaded too: the dev root's OpenBLAS is the serial build).
+class Factor {
+public:
+  explicit Factor(bool single) : dtype_(single ? CHOLMOD_SINGLE : CHOLMOD_DOUBLE) {
+    cholmod_start(&c_);
+    c_.final_asis = 1;
+    c_.supernodal = CHOLMOD_SUPERNODAL;
+    c_.quick_return_if_not_posdef = 1;
+    c_.nmethods = 1;
+    c_.method[0].ordering = CHOLMOD_METIS;
+    c_.postorder = 1;
+    c_.print = 0;
+    c_.nthreads_max = 1;
   }
+  ~Factor() {
+    if (L_) cholmod_free_factor(&L_, &c_);
+    if (X_) cholmod_free_dense(&X_, &c_);
+    if (Y_) cholmod_free_dense(&Y_, &c_);
+    if (E_) cholmod_free_dense(&E_, &c_);
+    cholmod_finish(&c_);
+  }
+  Factor(const Factor&) = delete;
+  Factor& operator=(const Factor&) = delete;
+
   /// the ordering and symbolic factor; AMD where this CHOLMOD was built without METIS
   void analyse(const Eigen::SparseMatrix<double>& H) {
-    analyzePattern(H);
-    if (cholmod().status == CHOLMOD_NOT_INSTALLED) {
-      cholmod().method[0].ordering = CHOLMOD_AMD;
-      analyzePattern(H);
+    cholmod_sparse A = view(H);
+    L_ = cholmod_analyze(&A, &c_);
+    if (c_.status == CHOLMOD_NOT_INSTALLED) {
+      if (L_) cholmod_free_factor(&L_, &c_);
+      c_.method[0].ordering = CHOLMOD_AMD;
+      L_ = cholmod_analyze(&A, &c_);
     }
-    if (cholmod().status < 0)
+    if (!L_ || c_.status < 0)
       throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's analysis failed (status " +
-                               std::to_string(cholmod().status) + ")");
+                               std::to_string(c_.status) + ")");
   }
+  /// M's numeric factor (M: H's pattern); false where M is not positive definite
+  bool factorize(const Eigen::SparseMatrix<double>& M) {
+    cholmod_sparse A = view(M);
+    cholmod_factorize(&A, L_, &c_);
+    if (c_.status < 0)
+      throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's factorisation failed (status " +
+                               std::to_string(c_.status) + ")");
+    return L_->minor == L_->n;
+  }
+  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& v) {
+    const auto n = static_cast<std::size_t>(v.size());
+    cholmod_dense B{};
+    B.nrow = B.d = B.nzmax = n;
+    B.ncol = 1;
+    B.xtype = CHOLMOD_REAL;
+    B.dtype = dtype_;
+    if (dtype_ == CHOLMOD_SINGLE) {
+      bf_.resize(n);
+      for (std::size_t k = 0; k < n; ++k) bf_[k] = static_cast<float>(v[static_cast<Eigen::Index>(k)]);
+      B.x = bf_.data();
+    } else {
+      B.x = const_cast<double*>(v.data());  // read only
+    }
+    if (!cholmod_solve2(CHOLMOD_A, L_, &B, nullptr, &X_, nullptr, &Y_, &E_, &c_))
+      throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's solve failed (status " + std::to_string(c_.status) +
+                               ")");
+    Eigen::VectorXd x(v.size());
+    if (dtype_ == CHOLMOD_SINGLE) {
+      const auto* p = static_cast<const float*>(X_->x);
+      for (std::size_t k = 0; k < n; ++k) x[static_cast<Eigen::Index>(k)] = p[k];
+    } else {
+      const auto* p = static_cast<const double*>(X_->x);
+      for (std::size_t k = 0; k < n; ++k) x[static_cast<Eigen::Index>(k)] = p[k];
+    }
+    return x;
+  }
+
+private:
+  /// M as CHOLMOD's symmetric matrix (lower triangle used), values converted where single
+  cholmod_sparse view(const Eigen::SparseMatrix<double>& M) {
+    cholmod_sparse A{};
+    A.nrow = A.ncol = static_cast<std::size_t>(M.rows());
+    A.nzmax = static_cast<std::size_t>(M.nonZeros());
+    A.p = const_cast<int*>(M.outerIndexPtr());  // read only
+    A.i = const_cast<int*>(M.innerIndexPtr());
+    A.stype = -1;
+    A.itype = CHOLMOD_INT;
+    A.xtype = CHOLMOD_REAL;
+    A.dtype = dtype_;
+    A.sorted = 1;
+    A.packed = 1;
+    if (dtype_ == CHOLMOD_SINGLE) {
+      xf_.resize(A.nzmax);
+      for (std::size_t k = 0; k < A.nzmax; ++k) xf_[k] = static_cast<float>(M.valuePtr()[k]);
+      A.x = xf_.data();
+    } else {
+      A.x = const_cast<double*>(M.valuePtr());
+    }
+    return A;
+  }
+  int dtype_;
+  cholmod_common c_{};
+  cholmod_factor* L_ = nullptr;
+  cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;  // solve2's reused workspace
+  std::vector<float> xf_, bf_;
 };
 #else
-struct Factor : Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> {
-  void analyse(const Eigen::SparseMatrix<double>& H) { analyzePattern(H); }
+/// Eigen's SimplicialLLT in an AMD order (double; `single` is CHOLMOD's only)
+class Factor {
+public:
+  explicit Factor(bool /*single*/) {}
+  void analyse(const Eigen::SparseMatrix<double>& H) { llt_.analyzePattern(H); }
+  bool factorize(const Eigen::SparseMatrix<double>& M) {
+    llt_.factorize(M);
+    return llt_.info() == Eigen::Success;
+  }
+  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& v) { return llt_.solve(v); }
+
+private:
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt_;
 };
 #endif
 }  // namespace
 
 struct HessianFactor::Impl {
   Eigen::SparseMatrix<double> H, M;  // rank 0
-  Factor llt;
+  std::unique_ptr<Factor> llt;
   std::vector<int> off, adj, ends;              // host copies of the local adjacency (fixed for the run)
   par::Comm comm;                               // one process unless distribute()d
   std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
@@ -118,7 +213,9 @@ struct HessianFactor::Impl {
   }
 };
 
-HessianFactor::HessianFactor() : impl_(std::make_unique<Impl>()) {}
+HessianFactor::HessianFactor(bool single) : impl_(std::make_unique<Impl>()) {
+  impl_->llt = std::make_unique<Factor>(single);
+}
 HessianFactor::~HessianFactor() = default;
 HessianFactor::HessianFactor(HessianFactor&&) noexcept = default;
 HessianFactor& HessianFactor::operator=(HessianFactor&&) noexcept = default;
@@ -194,16 +291,16 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
     I.H.resize(n, n);
     I.H.setFromTriplets(t.begin(), t.end());  // duplicates (two joints between one pair) add up
     if (!I.analysed) {
-      I.llt.analyse(I.H);
+      I.llt->analyse(I.H);
       I.analysed = true;
     }
     // H itself, else H + sigma diag(scale) with sigma growing tenfold from 1e-4
+    Kokkos::Profiling::ScopedRegion numeric("nacre::mc::newton::factor_numeric");
     for (double sigma = 0.0;; sigma = sigma == 0.0 ? 1e-4 : 10.0 * sigma) {
       I.M = I.H;
       if (sigma > 0.0)
         for (long long k = 0; k < n; ++k) I.M.coeffRef(k, k) += sigma * scale[static_cast<std::size_t>(k)];
-      I.llt.factorize(I.M);
-      if (I.llt.info() == Eigen::Success) {
+      if (I.llt->factorize(I.M)) {
         result[0] = sigma;
         break;
       }
@@ -219,14 +316,9 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
 }
 
 void HessianFactor::solve(const GradientView<>& r, const GradientView<>& y) const {
+  Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::factor_solve");
   const auto& I = *impl_;
-  I.through_root(r, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.llt.solve(v); });
-}
-
-void HessianFactor::apply(const GradientView<>& b, const GradientView<>& y) const {
-  const auto& I = *impl_;
-  I.through_root(b, y,
-                 [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.M.selfadjointView<Eigen::Lower>() * v; });
+  I.through_root(r, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.llt->solve(v); });
 }
 
 }  // namespace nacre::mc

@@ -118,10 +118,12 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
   }
   allocate_work();
   const std::string& pc = cfg_.mc.newton_preconditioner;
-  polisher_ = Polisher<Exec>(space_, m_,
-                             pc == "cholesky"       ? NewtonPreconditioner::cholesky
-                             : pc == "block-jacobi" ? NewtonPreconditioner::block_jacobi
-                                                    : NewtonPreconditioner::automatic);
+  polisher_ = Polisher<Exec>(
+      space_, m_,
+      pc == "cholesky"       ? NewtonPreconditioner::cholesky
+      : pc == "block-jacobi" ? NewtonPreconditioner::block_jacobi
+                             : NewtonPreconditioner::automatic,
+      cfg_.mc.factor_precision == "double" ? FactorPrecision::double_precision : FactorPrecision::single);
   polisher_.distribute(dist_.get());
   // Residual scales (docs/decks.md, "Convergence"): the largest elastic-limit traction k x1 over
   // a brick's length is the force an intact bed joint carries at its limit; a moment is that

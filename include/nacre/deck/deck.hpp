@@ -127,6 +127,7 @@ struct MonteCarlo {
   int cg_iterations = 500;           ///< CG iterations per trust-region Newton step
   long burst_cycles = 200;           ///< relaxation = "auto": cycles of a Monte Carlo burst
   std::string newton_preconditioner = "auto";  ///< auto | cholesky | block-jacobi (trust-region Newton)
+  std::string factor_precision = "single";     ///< single | double: the Cholesky preconditioner's (CHOLMOD)
   /// How a load step is relaxed: "monte-carlo" (Monte Carlo phases, then the polish),
   /// "gradient" (the polish method alone, from the predicted poses: a pure gradient minimiser
   /// with the same load stepping; needs polish = fire, newton or trust-region), "newton"

@@ -3,8 +3,10 @@
 /// \brief The factorised preconditioner of the trust-region Newton method on host backends: the
 /// exact sparse Hessian (hessian_blocks + hessian_slots), shifted until positive definite, by
 /// sparse Cholesky, its ordering analysed once per run: CHOLMOD's supernodal factor in a METIS
-/// order where the build found CHOLMOD (1.55x faster on a 20k-brick path), else Eigen's
-/// SimplicialLLT in an AMD order. The two give different bits (each deterministic).
+/// order where the build found CHOLMOD (1.55x faster on a 20k-brick path), in float by default
+/// (deck key factor_precision: half the bytes a triangular solve streams, the same Newton and CG
+/// counts), else Eigen's SimplicialLLT in an AMD order, double. Each gives its own bits (each
+/// deterministic).
 ///
 /// Why: block-Jacobi leaves CG the long waves of the brick wall (hundreds to thousands of CG
 /// iterations per Newton step at 20k bricks, measured: docs/speed_accuracy.md); with the factor
@@ -17,7 +19,7 @@
 /// its bits depend on the matrix's numbering, so rank 0 holds it. Each factor() gathers every
 /// rank's rows (its free bricks' diagonal and slot blocks, the other brick named by its
 /// one-process free index) to rank 0, which assembles them in the one-process order and
-/// factorises; each solve() / apply() gathers the vector to rank 0 and scatters the result. One
+/// factorises; each solve() gathers the vector to rank 0 and scatters the result. One
 /// process is the case of one rank. Correct and bit-identical, but serial on rank 0.
 #include <nacre/mc/hessian.hpp>
 #include <nacre/par/comm.hpp>
@@ -29,7 +31,8 @@ namespace nacre::mc {
 
 class HessianFactor {
 public:
-  HessianFactor();
+  /// \brief `single`: factor and solve in float where CHOLMOD factorises (Eigen's factor: double).
+  explicit HessianFactor(bool single = false);
   ~HessianFactor();
   HessianFactor(HessianFactor&&) noexcept;
   HessianFactor& operator=(HessianFactor&&) noexcept;
@@ -44,8 +47,6 @@ public:
   void factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t, double floor_r);
   /// \brief y = M^-1 r (free bricks, x / y / theta columns).
   void solve(const GradientView<>& r, const GradientView<>& y) const;
-  /// \brief y = M b.
-  void apply(const GradientView<>& b, const GradientView<>& y) const;
   /// \brief The relative shift the last factorisation needed (0: H itself was positive definite).
   [[nodiscard]] double shift() const;
 

@@ -45,7 +45,8 @@ class Polisher {
 
 public:
   Polisher() = default;
-  Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic);
+  Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic,
+           FactorPrecision precision = FactorPrecision::single);
 
   /// \brief The exact gradient at the current poses and its residual.
   double residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale);
@@ -73,7 +74,8 @@ private:
 };
 
 template <class ExecutionSpace>
-Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc) {
+Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc,
+                                   FactorPrecision precision) {
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
   const auto nf = static_cast<std::size_t>(m.n_free), ni = static_cast<std::size_t>(m.n_interfaces);
   grad_ = GradientView<>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::gradient"), nf);
@@ -81,7 +83,7 @@ Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m
   save_ = decltype(save_)(view_alloc(space, WithoutInitializing, "nacre::mc::polish::save"), nf);
   iface_e_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::energy"), ni);
   iface_trial_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::trial_energy"), ni);
-  tr_ = TrustRegion<ExecutionSpace>(space, m, pc);
+  tr_ = TrustRegion<ExecutionSpace>(space, m, pc, precision);
 }
 
 template <class ExecutionSpace>

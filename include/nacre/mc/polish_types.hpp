@@ -16,6 +16,9 @@ const char* polish_method_name(PolishMethod m);
 /// \brief The trust-region Newton method's preconditioner (deck key newton_preconditioner):
 /// the sparse Cholesky factor of the (shifted) Hessian on host memory, else 3x3 block-Jacobi.
 enum class NewtonPreconditioner { automatic, cholesky, block_jacobi };
+/// \brief The Cholesky preconditioner's arithmetic (deck key factor_precision): float halves the
+/// bytes its solves stream; CG, H v and the residual stay double. CHOLMOD only (Eigen: double).
+enum class FactorPrecision { single, double_precision };
 
 /// \brief What a polish is asked to do.
 struct PolishOptions {

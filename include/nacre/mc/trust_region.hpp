@@ -61,7 +61,8 @@ template <class ExecutionSpace>
 class TrustRegion {
 public:
   TrustRegion() = default;
-  TrustRegion(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc) {
+  TrustRegion(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc,
+              FactorPrecision precision = FactorPrecision::single) {
     const int n_free = m.n_free;
     using Kokkos::view_alloc, Kokkos::WithoutInitializing;
     const auto nf = static_cast<std::size_t>(n_free);
@@ -87,8 +88,9 @@ public:
           "newton_preconditioner = \"cholesky\" needs host memory (this build's models live "
           "on a device); expected \"block-jacobi\" or \"auto\"");
     if (pc == NewtonPreconditioner::cholesky || (pc == NewtonPreconditioner::automatic && host)) {
-      factor_ = std::make_shared<HessianFactor>();
-      ref_factor_ = std::make_shared<HessianFactor>();
+      const bool single = precision == FactorPrecision::single;
+      factor_ = std::make_shared<HessianFactor>(single);
+      ref_factor_ = std::make_shared<HessianFactor>(single);
       slots_ = SlotBlockView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::slot_blocks")),
                                static_cast<std::size_t>(m.adj_iface.extent(0)));
     }
@@ -112,17 +114,19 @@ public:
   /// a . b over the free bricks (deterministic)
   double dot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a, const GradientView<>& b,
              int nf) const;
-  /// a . M b (M: the preconditioner's blocks; deterministic)
-  double mdot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a, const GradientView<>& b,
-              int nf) const;
-  /// z . M d, and d . M d into dd: with the factor one product M d serves both (one matrix
-  /// product, on ranks one gather and scatter, instead of two); block-Jacobi: two mdot
-  double mdot_pair(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& z, const GradientView<>& d,
-                   int nf, double& dd) const;
-  /// Steihaug-CG for H s = -g inside ||s||_M <= radius; returns CG iterations, sets on_boundary.
-  /// minv_g: M^-1 g where the caller has it (minv_norm2 with the factor), else empty
-  int steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta,
-               int max_cg, SumWorkspace<>& ws, bool& on_boundary, const GradientView<>& minv_g = {});
+  /// What Steihaug-CG returns besides the step s (step_).
+  struct Steihaug {
+    int iterations = 0;        ///< CG iterations (H v products)
+    bool on_boundary = false;  ///< s ends on the trust region's boundary
+    double snorm2 = 0.0;       ///< ||s||_M^2
+    double model = 0.0;        ///< q(s) = g.s + s.H s / 2, the model's change (<= 0)
+  };
+  /// Steihaug-CG for H s = -g inside ||s||_M <= radius. ||s||_M and q(s) come from CG's own
+  /// recurrences (Conn, Gould & Toint, Trust-Region Methods, 7.5.1: s.M d and d.M d from r.y
+  /// and beta; q falls by alpha r.y / 2 a step), so neither an M product per iteration nor an H s
+  /// after it is needed. minv_g: M^-1 g where the caller has it (minv_norm2 with the factor).
+  Steihaug steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta,
+                    int max_cg, SumWorkspace<>& ws, const GradientView<>& minv_g = {});
   /// z += tau d
   void add_scaled(const ExecutionSpace& space, const GradientView<>& z, const GradientView<>& d, double tau,
                   int nf) const;
@@ -146,6 +150,10 @@ public:
   void refresh(const ExecutionSpace& space, const Model<>& m) const {
     if (dist_) dist_->refresh(space, m);
   }
+  /// whether the preconditioner is a Cholesky factor (else block-Jacobi)
+  [[nodiscard]] bool has_factor() const { return factor_ != nullptr; }
+  /// the step of the last steihaug() (a row per model brick)
+  [[nodiscard]] const GradientView<>& step() const { return step_; }
   /// the relative shift of the last Cholesky factor (0: H was positive definite, or block-Jacobi)
   [[nodiscard]] double shift() const { return active_ ? active_->shift() : 0.0; }
   /// make the factor of the Hessian at zero poses (every joint elastic: the stiffness of the
@@ -178,39 +186,6 @@ double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspac
   return deterministic_sum(
       space, "nacre::mc::newton::dot", ws, 0, nf,
       KOKKOS_LAMBDA(const int i) { return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2); }, over(nf));
-}
-
-template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::mdot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a,
-                                         const GradientView<>& b, int nf) const {
-  if (factor_) {  // M b on the host (the factor's matrix), then the dot
-    space.fence("nacre::mc::newton::mdot");
-    active_->apply(b, md_);
-    return dot(space, ws, a, md_, nf);
-  }
-  auto M = mblk_;
-  return deterministic_sum(
-      space, "nacre::mc::newton::mdot", ws, 0, nf,
-      KOKKOS_LAMBDA(const int i) {
-        const double b0 = b(i, 0), b1 = b(i, 1), b2 = b(i, 2);
-        return a(i, 0) * (M(i, 0) * b0 + M(i, 3) * b1 + M(i, 4) * b2) +
-               a(i, 1) * (M(i, 3) * b0 + M(i, 1) * b1 + M(i, 5) * b2) +
-               a(i, 2) * (M(i, 4) * b0 + M(i, 5) * b1 + M(i, 2) * b2);
-      },
-      over(nf));
-}
-
-template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::mdot_pair(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& z,
-                                              const GradientView<>& d, int nf, double& dd) const {
-  if (!factor_) {
-    dd = mdot(space, ws, d, d, nf);
-    return mdot(space, ws, z, d, nf);
-  }
-  space.fence("nacre::mc::newton::mdot");
-  active_->apply(d, md_);
-  dd = dot(space, ws, d, md_, nf);
-  return dot(space, ws, z, md_, nf);
 }
 
 template <class ExecutionSpace>
@@ -287,13 +262,9 @@ void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, cons
         for (int k = 0; k < 6; ++k) h[k] = M(i, k);
         const double fl[3] = {floor_t, floor_t, floor_r};
         detail::block_inverse(h, fl, inv);
+        // (the trust region's norm is this operator's: the block where Cholesky succeeded, the
+        // floored diagonal otherwise; Steihaug's recurrences need only its inverse)
         for (int k = 0; k < 6; ++k) Minv(i, k) = inv[k];
-        // the trust region's norm uses the same positive definite operator: the block itself
-        // where Cholesky succeeded, the floored diagonal otherwise
-        if (inv[3] == 0.0 && inv[4] == 0.0 && inv[5] == 0.0) {
-          M(i, 0) = 1.0 / inv[0], M(i, 1) = 1.0 / inv[1], M(i, 2) = 1.0 / inv[2];
-          M(i, 3) = M(i, 4) = M(i, 5) = 0.0;
-        }
       });
 }
 
@@ -352,9 +323,9 @@ inline double to_boundary(double zz, double zd, double dd, double radius) {
 }  // namespace detail
 
 template <class ExecutionSpace>
-int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g,
-                                          double radius, double eta, int max_cg, SumWorkspace<>& ws, bool& on_boundary,
-                                          const GradientView<>& minv_g) {
+typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::steihaug(
+    const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta, int max_cg,
+    SumWorkspace<>& ws, const GradientView<>& minv_g) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::cg");
   const int nf = m.n_free;
   auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
@@ -371,30 +342,32 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
   Kokkos::parallel_for(
       "nacre::mc::newton::cg_first_direction", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
       KOKKOS_LAMBDA(const int i) { d(i, 0) = -y(i, 0), d(i, 1) = -y(i, 1), d(i, 2) = -y(i, 2); });
-  on_boundary = false;
+  Steihaug out;
   double ry = dot(space, ws, r, y, nf);
   const double stop = eta * eta * ry;  // ||r||_{M^-1}^2 <= eta^2 ||g||_{M^-1}^2
-  double zz = 0.0;                     // ||z||_M^2, kept up to date
-  int it = 0;
-  auto finish_on_boundary = [&](double zd, double dd) {
-    add_scaled(space, z, d, detail::to_boundary(zz, zd, dd, radius), nf);
-    on_boundary = true;
+  // ||z||_M^2, z.M d, d.M d and q(z) by recurrence: r_k.d_j = 0 for j < k and r_k.d_k = -r_k.y_k,
+  // so d.M d <- r.y + beta^2 d.M d, z.M d <- beta (z.M d + alpha d.M d), q <- q - alpha r.y / 2
+  double zz = 0.0, zd = 0.0, dd = ry, q = 0.0;
+  auto finish_on_boundary = [&](double dhd) {  // z + tau d on the boundary; q along d: -tau r.y + tau^2 dHd / 2
+    const double tau = detail::to_boundary(zz, zd, dd, radius);
+    add_scaled(space, z, d, tau, nf);
+    zz += 2.0 * tau * zd + tau * tau * dd;
+    q += -tau * ry + 0.5 * tau * tau * dhd;
+    out.on_boundary = true;
   };
-  while (it < max_cg && ry > stop) {
-    ++it;
+  while (out.iterations < max_cg && ry > stop) {
+    ++out.iterations;
     halo_rows(space, d);
     hessian_vector(space, m, d, hd, mask(), tangents_);
     const double dhd = dot(space, ws, d, hd, nf);
-    double dd = 0.0;
-    const double zd = mdot_pair(space, ws, z, d, nf, dd);
     if (!(dhd > 0.0)) {  // negative (or no) curvature: follow d to the boundary
-      finish_on_boundary(zd, dd);
+      finish_on_boundary(dhd);
       break;
     }
     const double alpha = ry / dhd;
     const double zz_next = zz + 2.0 * alpha * zd + alpha * alpha * dd;
     if (zz_next >= radius * radius) {  // the step leaves the region: stop on its boundary
-      finish_on_boundary(zd, dd);
+      finish_on_boundary(dhd);
       break;
     }
     Kokkos::parallel_for(
@@ -403,8 +376,11 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
         });
     precondition_apply(space, r, y, nf);
     zz = zz_next;
+    q -= 0.5 * alpha * ry;
     const double ry_next = dot(space, ws, r, y, nf);
     const double beta = ry_next / ry;
+    zd = beta * (zd + alpha * dd);
+    dd = ry_next + beta * beta * dd;
     ry = ry_next;
     Kokkos::parallel_for(
         "nacre::mc::newton::cg_direction", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
@@ -412,7 +388,9 @@ int TrustRegion<ExecutionSpace>::steihaug(const ExecutionSpace& space, const Mod
           for (int k = 0; k < 3; ++k) d(i, k) = -y(i, k) + beta * d(i, k);
         });
   }
-  return it;
+  out.snorm2 = zz;
+  out.model = q;
+  return out;
 }
 
 template <class ExecutionSpace>
@@ -459,17 +437,17 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     // sqrt(relative) capped at 0.5, 781 with backtracking, 592 with this; the same final state
     const double eta =
         std::min(kEtaMax, std::max(std::sqrt(gMg) / std::max(g0, 1e-300), 0.5 * o.tolerance / r.residual));
-    bool boundary = false;
     // (with the factor, minv_norm2 left M^-1 g in md_: CG's first solve)
-    last_cg_ =
-        steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, boundary, factor_ ? md_ : GradientView<>());
+    const Steihaug cg =
+        steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, factor_ ? md_ : GradientView<>());
+    last_cg_ = cg.iterations;
+    const bool boundary = cg.on_boundary;
     r.inner_iterations += last_cg_;
-    // predicted decrease -(g.s + s.H s / 2), one more product
-    halo_rows(space, z);
-    hessian_vector(space, m, z, hd_, mask(), tangents_);
-    const double gs = dot(space, ws, grad, z, nf), sHs = dot(space, ws, z, hd_, nf);
-    const double pred = -(gs + 0.5 * sHs);
-    const double snorm = std::sqrt(mdot(space, ws, z, z, nf));
+    // predicted decrease -(g.s + s.H s / 2): CG's model value (before 2026-12-05 one more H s
+    // product and an M s, which gave the same numbers up to rounding)
+    const double gs = dot(space, ws, grad, z, nf);
+    const double pred = -cg.model, sHs = 2.0 * (cg.model - gs);
+    const double snorm = std::sqrt(cg.snorm2);
     // the trial: poses moved by s, the energy change summed interface by interface
     Kokkos::parallel_for(
         "nacre::mc::newton::move", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
@@ -495,7 +473,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     if (!taken && pred > rounding && gs < 0.0) {
       // rejected: back along the step before giving it up. Where the model fails it is mostly a
       // joint's kink (contact penalty, the law's peak) crossed part-way along s; the energy at
-      // save + alpha s for alpha = 1/2, 1/4, 1/8 costs one energy pass each, against a new CG
+      // save + alpha s for alpha = 1/2, 1/4, ..., 1/32 costs one energy pass each, against a new CG
       // solve (and often a refactorisation) for a rejected step. A fraction is taken when its
       // own ratio to the model's decrease along the line passes the acceptance test.
       double alpha = 1.0;
@@ -514,7 +492,10 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         const double pred_a = -(al * gs + 0.5 * al * al * sHs);
         taken = pred_a > rounding && -dE_taken / pred_a > 1e-4;
       }
-      if (taken) partial = true, radius = alpha * snorm;  // the model held up to here
+      // the model held up to alpha s: the region shrinks to it. (Keeping at least half the
+      // radius saved 4 % of the Newton steps on the 20k reference path but sent "auto" onto an
+      // arrested branch, 32 ruptures against 47, on the adaptive path: not taken, 2026-12-05.)
+      if (taken) partial = true, radius = alpha * snorm;
     }
     if (taken) {
       std::swap(e, trial);

@@ -51,6 +51,7 @@ void read_solver(Section& top, Deck& d) {
   s.integer("burst_cycles", {}, S.burst_cycles, 1, 1000000000, "a cycle count >= 1");
   s.string("newton_preconditioner", S.newton_preconditioner, {"auto", "cholesky", "block-jacobi"},
            "one of \"auto\", \"cholesky\", \"block-jacobi\"");
+  s.string("factor_precision", S.factor_precision, {"single", "double"}, "one of \"single\", \"double\"");
   s.string("relaxation", S.relaxation, {"monte-carlo", "gradient", "newton", "auto"},
            "one of \"monte-carlo\", \"gradient\", \"newton\", \"auto\"");
   if (S.relaxation == "gradient" && S.polish != "fire" && S.polish != "newton" && S.polish != "trust-region")
@@ -100,6 +101,7 @@ void read_solver(Section& top, Deck& d) {
                     "cg_iterations",
                     "burst_cycles",
                     "newton_preconditioner",
+                    "factor_precision",
                     "relaxation",
                     "AmpFactor",
                     "StructSteps"});
