@@ -44,6 +44,12 @@ public:
     c_.postorder = 1;
     c_.print = 0;
     c_.nthreads_max = 1;
+    // relaxed supernodes twice CHOLMOD's defaults (nrelax 4/16/48, zrelax 0.8/0.1/0.05): larger
+    // dense blocks, more explicit zeros. On the 20k-brick reference path (one thread, side by
+    // side): factorisations 11.5 -> 6.6 s, each solve 12-24 % slower; none (1/1/1, 0/0/0)
+    // doubled the factorisations' time (docs/speed_accuracy.md)
+    c_.nrelax[0] = 16, c_.nrelax[1] = 48, c_.nrelax[2] = 96;
+    c_.zrelax[0] = 0.8, c_.zrelax[1] = 0.2, c_.zrelax[2] = 0.1;
   }
   ~Factor() {
     if (L_) cholmod_free_factor(&L_, &c_);
@@ -57,7 +63,16 @@ public:
 
   /// the ordering and symbolic factor; AMD where this CHOLMOD was built without METIS
   void analyse(const Eigen::SparseMatrix<double>& H) {
-    cholmod_sparse A = view(H);
+    // where each diagonal entry lies in H's values (the pattern is fixed for the run)
+    diag_.resize(static_cast<std::size_t>(H.cols()));
+    for (Eigen::Index k = 0; k < H.cols(); ++k) {
+      const int* first = H.innerIndexPtr() + H.outerIndexPtr()[k];
+      const int* last = H.innerIndexPtr() + H.outerIndexPtr()[k + 1];
+      const int* at = std::lower_bound(first, last, static_cast<int>(k));
+      if (at == last || *at != k) throw std::logic_error("nacre::mc::HessianFactor: a diagonal entry is missing");
+      diag_[static_cast<std::size_t>(k)] = at - H.innerIndexPtr();
+    }
+    cholmod_sparse A = view(H, 0.0, {});
     L_ = cholmod_analyze(&A, &c_);
     if (c_.status == CHOLMOD_NOT_INSTALLED) {
       if (L_) cholmod_free_factor(&L_, &c_);
@@ -68,9 +83,11 @@ public:
       throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's analysis failed (status " +
                                std::to_string(c_.status) + ")");
   }
-  /// M's numeric factor (M: H's pattern); false where M is not positive definite
-  bool factorize(const Eigen::SparseMatrix<double>& M) {
-    cholmod_sparse A = view(M);
+  /// the numeric factor of H + sigma diag(scale) (H: the analysed pattern); false where it is not
+  /// positive definite. The shifted values are written once, in the factor's precision, straight
+  /// from H's (no shifted copy of H is kept).
+  bool factorize(const Eigen::SparseMatrix<double>& H, double sigma, const std::vector<double>& scale) {
+    cholmod_sparse A = view(H, sigma, scale);
     cholmod_factorize(&A, L_, &c_);
     if (c_.status < 0)
       throw std::runtime_error("nacre::mc::HessianFactor: CHOLMOD's factorisation failed (status " +
@@ -106,25 +123,32 @@ public:
   }
 
 private:
-  /// M as CHOLMOD's symmetric matrix (lower triangle used), values converted where single
-  cholmod_sparse view(const Eigen::SparseMatrix<double>& M) {
+  /// H + sigma diag(scale) as CHOLMOD's symmetric matrix (lower triangle used), in the factor's
+  /// precision: H's own values where double and unshifted, else one converted, shifted copy
+  cholmod_sparse view(const Eigen::SparseMatrix<double>& H, double sigma, const std::vector<double>& scale) {
     cholmod_sparse A{};
-    A.nrow = A.ncol = static_cast<std::size_t>(M.rows());
-    A.nzmax = static_cast<std::size_t>(M.nonZeros());
-    A.p = const_cast<int*>(M.outerIndexPtr());  // read only
-    A.i = const_cast<int*>(M.innerIndexPtr());
+    A.nrow = A.ncol = static_cast<std::size_t>(H.rows());
+    A.nzmax = static_cast<std::size_t>(H.nonZeros());
+    A.p = const_cast<int*>(H.outerIndexPtr());  // read only
+    A.i = const_cast<int*>(H.innerIndexPtr());
     A.stype = -1;
     A.itype = CHOLMOD_INT;
     A.xtype = CHOLMOD_REAL;
     A.dtype = dtype_;
     A.sorted = 1;
     A.packed = 1;
+    const double* h = H.valuePtr();
     if (dtype_ == CHOLMOD_SINGLE) {
-      xf_.resize(A.nzmax);
-      for (std::size_t k = 0; k < A.nzmax; ++k) xf_[k] = static_cast<float>(M.valuePtr()[k]);
+      xf_.assign(h, h + A.nzmax);  // converted to float
+      for (std::size_t k = 0; k < diag_.size() && sigma > 0.0; ++k)
+        xf_[static_cast<std::size_t>(diag_[k])] = static_cast<float>(h[diag_[k]] + sigma * scale[k]);
       A.x = xf_.data();
+    } else if (sigma > 0.0) {
+      xd_.assign(h, h + A.nzmax);
+      for (std::size_t k = 0; k < diag_.size(); ++k) xd_[static_cast<std::size_t>(diag_[k])] += sigma * scale[k];
+      A.x = xd_.data();
     } else {
-      A.x = const_cast<double*>(M.valuePtr());
+      A.x = const_cast<double*>(h);  // read only
     }
     return A;
   }
@@ -133,6 +157,8 @@ private:
   cholmod_factor* L_ = nullptr;
   cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;  // solve2's reused workspace
   std::vector<float> xf_, bf_;
+  std::vector<double> xd_;
+  std::vector<std::ptrdiff_t> diag_;  // H's diagonal entries' positions in its values
 };
 #else
 /// Eigen's SimplicialLLT in an AMD order (double; `single` is CHOLMOD's only)
@@ -140,8 +166,14 @@ class Factor {
 public:
   explicit Factor(bool /*single*/) {}
   void analyse(const Eigen::SparseMatrix<double>& H) { llt_.analyzePattern(H); }
-  bool factorize(const Eigen::SparseMatrix<double>& M) {
-    llt_.factorize(M);
+  bool factorize(const Eigen::SparseMatrix<double>& H, double sigma, const std::vector<double>& scale) {
+    if (sigma == 0.0) {
+      llt_.factorize(H);
+    } else {
+      Eigen::SparseMatrix<double> M = H;  // a shifted copy for this attempt only
+      for (Eigen::Index k = 0; k < M.rows(); ++k) M.coeffRef(k, k) += sigma * scale[static_cast<std::size_t>(k)];
+      llt_.factorize(M);
+    }
     return llt_.info() == Eigen::Success;
   }
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& v) { return llt_.solve(v); }
@@ -153,7 +185,8 @@ private:
 }  // namespace
 
 struct HessianFactor::Impl {
-  Eigen::SparseMatrix<double> H, M;  // rank 0
+  Eigen::SparseMatrix<double> H;  // rank 0
+  int last_shifted = 0;           // rank 0: the attempt (1: 1e-4, 2: 1e-3, ...) of the last shifted factor
   std::unique_ptr<Factor> llt;
   std::vector<int> off, adj, ends;              // host copies of the local adjacency (fixed for the run)
   par::Comm comm;                               // one process unless distribute()d
@@ -220,6 +253,7 @@ HessianFactor::~HessianFactor() = default;
 HessianFactor::HessianFactor(HessianFactor&&) noexcept = default;
 HessianFactor& HessianFactor::operator=(HessianFactor&&) noexcept = default;
 double HessianFactor::shift() const { return impl_->shift; }
+void HessianFactor::forget_shift() { impl_->last_shifted = 0; }
 
 void HessianFactor::distribute(const par::Comm& comm, std::vector<int> global_free) {
   if (impl_->ready) throw std::logic_error("nacre::mc::HessianFactor::distribute: before the first factor()");
@@ -228,7 +262,7 @@ void HessianFactor::distribute(const par::Comm& comm, std::vector<int> global_fr
 }
 
 void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t,
-                           double floor_r) {
+                           double floor_r, bool indefinite) {
   if (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible)
     throw std::logic_error("nacre::mc::HessianFactor: host memory only (device builds use block-Jacobi)");
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::factor");
@@ -294,14 +328,26 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
       I.llt->analyse(I.H);
       I.analysed = true;
     }
-    // H itself, else H + sigma diag(scale) with sigma growing tenfold from 1e-4
+    // H itself, else H + sigma diag(scale), sigma in 1e-4, 1e-3, ... (tenfold). A failed attempt
+    // costs about what a factor does (0.24 s against 0.27 s at 20k bricks), so past sigma = 0 the
+    // search resumes a decade below the last positive shift since forget_shift() (the smallest
+    // decade that works whenever that is at most one decade lower), and starts there where the
+    // caller says H is likely indefinite (trust_region.hpp: CG met negative curvature). On the
+    // 20k-brick reference path 48 -> 44 failed attempts; the memory is a load step's own (see
+    // docs/speed_accuracy.md for what a memory across steps would save).
     Kokkos::Profiling::ScopedRegion numeric("nacre::mc::newton::factor_numeric");
-    for (double sigma = 0.0;; sigma = sigma == 0.0 ? 1e-4 : 10.0 * sigma) {
-      I.M = I.H;
-      if (sigma > 0.0)
-        for (long long k = 0; k < n; ++k) I.M.coeffRef(k, k) += sigma * scale[static_cast<std::size_t>(k)];
-      if (I.llt->factorize(I.M)) {
+    // attempt k: sigma = 0 (k = 0), else 1e-4 10^(k - 1) by repeated products (the former bits)
+    auto sigma_of = [](int k) {
+      double sg = k == 0 ? 0.0 : 1e-4;
+      for (int q = 1; q < k; ++q) sg *= 10.0;
+      return sg;
+    };
+    const int resume = std::max(1, I.last_shifted - 1);
+    for (int k = indefinite ? resume : 0;; k = k == 0 ? resume : k + 1) {
+      const double sigma = sigma_of(k);
+      if (I.llt->factorize(I.H, sigma, scale)) {
         result[0] = sigma;
+        if (k > 0) I.last_shifted = k;
         break;
       }
       if (sigma > 1e12) {

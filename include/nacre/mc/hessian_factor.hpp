@@ -12,7 +12,8 @@
 /// iterations per Newton step at 20k bricks, measured: docs/speed_accuracy.md); with the factor
 /// of H itself (shifted only where H is indefinite, on softening branches) CG needs a few. The
 /// shift is relative to the diagonal, M = H + sigma diag(|H_ii|) (floored), sigma = 0 first, then
-/// 1e-4, 1e-3, ... until Cholesky succeeds: scale-free between translations and rotations.
+/// 1e-4, 1e-3, ... (from a decade below the last positive shift that worked since forget_shift())
+/// until Cholesky succeeds: scale-free between translations and rotations.
 /// Host memory only (Eigen): a build whose models live on a device uses block-Jacobi.
 ///
 /// Spread over ranks (distribute()): the factor must be the one-process factor, bit for bit, and
@@ -44,9 +45,13 @@ public:
   /// \brief Assemble M from the model's adjacency (host copies taken on the first call: the
   /// pattern never changes), the diagonal blocks (xx, yy, tt, xy, xt, yt) and the slot blocks,
   /// and factorise it; `floor_t` / `floor_r` bound the diagonal scaling of the shift.
-  void factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t, double floor_r);
+  /// `indefinite`: the caller saw negative curvature, so sigma = 0 is not tried.
+  void factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t, double floor_r,
+              bool indefinite = false);
   /// \brief y = M^-1 r (free bricks, x / y / theta columns).
   void solve(const GradientView<>& r, const GradientView<>& y) const;
+  /// \brief Start the shift search afresh (its memory of the last positive shift dropped).
+  void forget_shift();
   /// \brief The relative shift the last factorisation needed (0: H itself was positive definite).
   [[nodiscard]] double shift() const;
 

@@ -118,6 +118,7 @@ public:
   struct Steihaug {
     int iterations = 0;        ///< CG iterations (H v products)
     bool on_boundary = false;  ///< s ends on the trust region's boundary
+    bool negative = false;     ///< it met a direction of negative (or no) curvature
     double snorm2 = 0.0;       ///< ||s||_M^2
     double model = 0.0;        ///< q(s) = g.s + s.H s / 2, the model's change (<= 0)
   };
@@ -137,8 +138,10 @@ public:
   /// sum over interfaces of (energy at the poses now - e(i)), the energies now into trial
   double energy_change(const ExecutionSpace& space, SumWorkspace<>& ws, const InterfaceEvaluator<MemSpace>& ev,
                        const Field<double>& e, const Field<double>& trial, int ni) const;
-  /// the preconditioner from the Hessian at the current poses (floors: translation, rotation)
-  void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
+  /// the preconditioner from the Hessian at the current poses (floors: translation, rotation);
+  /// `indefinite`: H is likely indefinite (the factor's shift search skips sigma = 0)
+  void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r,
+                    bool indefinite = false);
   /// y = M^-1 r
   void precondition_apply(const ExecutionSpace& space, const GradientView<>& r, const GradientView<>& y, int nf) const;
   /// the residual of grad (the largest over the ranks)
@@ -174,6 +177,7 @@ private:
   static constexpr int kBacktracks = 3;  ///< fractions 1/2, 1/4, 1/8 of a rejected step tried
   static constexpr double kEtaMax = 0.05;  ///< loosest CG forcing term (the first Newton step)
   int last_cg_ = 0;                      ///< CG iterations of the last Newton step
+  bool last_negative_ = false;           ///< the last Newton step's CG met negative curvature
   SlotBlockView<> slots_;
   TangentView<> tangents_;  ///< H v's per-interface pass
 };
@@ -245,12 +249,12 @@ double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, S
 
 template <class ExecutionSpace>
 void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<>& m, double floor_t,
-                                               double floor_r) {
+                                               double floor_r, bool indefinite) {
   hessian_blocks(space, m, mblk_);
   if (factor_) {
     hessian_slots(space, m, slots_, mask());
     space.fence("nacre::mc::newton::factor");
-    factor_->factor(m, mblk_, slots_, floor_t, floor_r);
+    factor_->factor(m, mblk_, slots_, floor_t, floor_r, indefinite);
     active_ = factor_.get();
     return;
   }
@@ -361,6 +365,7 @@ typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::stei
     hessian_vector(space, m, d, hd, mask(), tangents_);
     const double dhd = dot(space, ws, d, hd, nf);
     if (!(dhd > 0.0)) {  // negative (or no) curvature: follow d to the boundary
+      out.negative = true;
       finish_on_boundary(dhd);
       break;
     }
@@ -415,7 +420,13 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
   }
   double rounding = rounding_of(space, ws, e, ni);
   last_cg_ = 0;
-  if (factor_) reference_factor(space, m, floor_t, floor_r);
+  last_negative_ = false;
+  if (factor_) {
+    // the shift search's memory is the step's own: a run restarted between load steps
+    // preconditions as the original did
+    factor_->forget_shift();
+    reference_factor(space, m, floor_t, floor_r);
+  }
   PolishResult r;
   brick_gradient(space, m, grad);
   r.residual = residual_now(space, grad, nf, scale);
@@ -428,7 +439,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     // kRefactorCg iterations: joints soften or rupture), then the factor of the current H for
     // the rest of the call. Every call starts from the intact wall's, so a run restarted between
     // load steps preconditions exactly as the original did.
-    if (!factor_ || last_cg_ > kRefactorCg) precondition(space, m, floor_t, floor_r);
+    if (!factor_ || last_cg_ > kRefactorCg) precondition(space, m, floor_t, floor_r, last_negative_);
     const double gMg = minv_norm2(space, ws, grad, nf);
     if (radius < 0.0) radius = std::sqrt(gMg), g0 = std::sqrt(gMg);
     // forcing term (CG stops at eta |g|): the relative gradient (quadratic convergence), at most
@@ -441,6 +452,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     const Steihaug cg =
         steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, factor_ ? md_ : GradientView<>());
     last_cg_ = cg.iterations;
+    last_negative_ = cg.negative;
     const bool boundary = cg.on_boundary;
     r.inner_iterations += last_cg_;
     // predicted decrease -(g.s + s.H s / 2): CG's model value (before 2026-12-05 one more H s
