@@ -5,7 +5,8 @@
 #   perf/scaled_deck.sh BRICKS FINAL [study] > deck.toml        (run from the repository root)
 # With "study": the settings the Pareto and scaling studies are measured on, pinned so that their
 # tables stay comparable whatever the default deck sets (it was this deck's until 2026-12-03):
-# relaxation = "monte-carlo" and the adaptive load increments 0.01 (0.004 to 0.01).
+# relaxation = "monte-carlo", the adaptive load increments 0.01 (0.004 to 0.01) and predictor = true
+# (the predictor suited to the relaxation).
 set -euo pipefail
 bricks="$1"; final="$2"; study="${3:-}"
 read -r width height notch < <(python3 -c "
@@ -14,7 +15,7 @@ pin=()
 if [ "$study" = study ]; then
   pin=(-e 's/^relaxation = .*/relaxation = "monte-carlo"/' -e 's/^adaptive = .*/adaptive = true/'
        -e 's/^InitialLoadStepSize = .*/InitialLoadStepSize = 0.01/' -e 's/^MinLoadStepSize = .*/MinLoadStepSize = 0.004/'
-       -e 's/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.01/')
+       -e 's/^MaxLoadStepSize = .*/MaxLoadStepSize = 0.01/' -e 's/^predictor = .*/predictor = true/')
   grep -q '^relaxation = ' inputs/default.toml || pin+=(-e 's/^\[solver\]/[solver]\nrelaxation = "monte-carlo"/')
 elif [ -n "$study" ]; then
   echo "scaled_deck.sh: the third argument is \"study\" or nothing, not \"$study\"" >&2; exit 2

@@ -100,6 +100,22 @@ TEST_CASE("missing required values are errors", "[deck]") {
   CHECK_THAT(error_of("[geometry]\nwidth = 1\n"), ContainsSubstring("missing"));
 }
 
+TEST_CASE("predictor: true, false, \"damped\" or \"secant\"", "[deck]") {
+  using Kind = Load::PredictorKind;
+  auto with = [&](const std::string& v) {
+    return parse_deck_string(base + "predictor = " + v + "\n", "deck.toml").load;
+  };
+  CHECK(parse_deck_string(base, "deck.toml").load.predictor == false);
+  CHECK((with("true").predictor && with("true").predictor_kind == Kind::automatic));
+  CHECK_FALSE(with("false").predictor);
+  CHECK((with("\"damped\"").predictor && with("\"damped\"").predictor_kind == Kind::damped));
+  CHECK((with("\"secant\"").predictor && with("\"secant\"").predictor_kind == Kind::secant));
+  CHECK_THAT(error_of(base + "predictor = \"linear\"\n"),
+             StartsWith("deck.toml:15: load.predictor: unknown value; expected true, false, \"damped\" (eq. 2.11) or "
+                        "\"secant\""));
+  CHECK_THAT(error_of(base + "predictor = 1\n"), StartsWith("deck.toml:15: load.predictor: unknown value"));
+}
+
 TEST_CASE("out-of-range values are errors", "[deck]") {
   CHECK_THAT(error_of(base + "[solver]\nRTOL = 3\n"), StartsWith("deck.toml:16: solver.RTOL: value 3 out of range"));
   CHECK_THAT(error_of(base + "[solver]\nTEMP = -1\n"), ContainsSubstring("solver.TEMP: value -1 out of range"));

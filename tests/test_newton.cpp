@@ -320,3 +320,96 @@ TEST_CASE("relaxation = \"auto\" escapes the ruptured plateau where Newton stops
   CHECK(rows[0].energy < 0.6 * e_newton);
   CHECK(rows[0].ruptured < r_newton);
 }
+
+TEST_CASE("the predictors: the secant moves every brick by the last increment, eq. 2.11 holds back the loaded ones",
+          "[mc][newton]") {
+  // Two converged states of the continuation past the first softening joints (the H v test's);
+  // each predictor applied to a copy of the later poses with ratio 1/2.
+  auto d = newton_deck();
+  d.solver.relaxation = "monte-carlo";
+  auto st = make(d);
+  mc::Solver solver(d, st.s, st.f);
+  const auto& m = solver.model();
+  Kokkos::View<double* [5], Kokkos::LayoutRight, Kokkos::HostSpace> prev;
+  int softening = 0;
+  for (int k = 1; k <= 40 && softening < 3; ++k) {
+    prev = Kokkos::create_mirror(Kokkos::HostSpace{}, m.pose);  // a copy, also where m.pose is host memory
+    Kokkos::deep_copy(prev, m.pose);
+    solver.set_load(0.0005 * k);
+    REQUIRE(solver.polish("fire", 1e-8).converged);
+    const auto states = solver.interface_states();
+    softening = static_cast<int>(std::count(states.begin(), states.end(), std::int8_t{1}));
+  }
+  REQUIRE(softening >= 3);
+  const auto now = Kokkos::create_mirror(Kokkos::HostSpace{}, m.pose);
+  Kokkos::deep_copy(now, m.pose);
+  const double ratio = 0.5;
+  auto predicted = [&](bool secant) {
+    mc::Model<> c = m;  // the same interfaces, its own poses
+    c.pose = mc::Model<>::PoseView("nacre::test::pose", static_cast<std::size_t>(m.n_bricks));
+    Kokkos::deep_copy(c.pose, m.pose);
+    auto p_prev = mc::Model<>::PoseView("nacre::test::prev", static_cast<std::size_t>(m.n_bricks));
+    Kokkos::deep_copy(p_prev, prev);
+    if (secant) {
+      mc::predict_poses(ExecSpace{}, mc::SecantPredictor{}, c, p_prev, ratio);
+    } else {
+      Field<double> phi("nacre::test::phi", static_cast<std::size_t>(m.n_bricks));
+      mc::brick_energy(ExecSpace{}, c, phi);
+      mc::predict_poses(ExecSpace{}, c, p_prev, phi, ratio);
+    }
+    return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, c.pose);
+  };
+  const auto s = predicted(true), e = predicted(false);
+  Field<double> phi("nacre::test::phi", static_cast<std::size_t>(m.n_bricks));
+  mc::brick_energy(ExecSpace{}, m, phi);
+  const auto hphi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, phi);
+  const auto hphi0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.phi0);
+  int held = 0, moved = 0;
+  double secant_err = 0.0, damped_err = 0.0;
+  for (int b = 0; b < m.n_free; ++b) {
+    const double r = hphi0(b) > 0 ? hphi(b) / hphi0(b) : 0.0;
+    const double mfac = 1.0 - 1.8 * (std::max(std::min(r, 1.0), 0.5) - 0.5);  // eq. 2.11
+    held += mfac < 1.0;
+    for (int k = 0; k < 3; ++k) {
+      const double step = now(b, k) - prev(b, k);
+      moved += step != 0.0;
+      secant_err = std::max(secant_err, std::abs(s(b, k) - (now(b, k) + ratio * step)));
+      damped_err = std::max(damped_err, std::abs(e(b, k) - (now(b, k) + ratio * step * mfac)));
+    }
+    // the frame's sine and cosine - 1 follow the predicted angle
+    CHECK(s(b, 3) == Catch::Approx(std::sin(s(b, 2))).margin(1e-15));
+    CHECK(s(b, 4) == Catch::Approx(std::cos(s(b, 2)) - 1.0).margin(1e-15));
+  }
+  INFO(held << " of " << m.n_free << " bricks held back by eq. 2.11; " << moved << " moving components");
+  CHECK(held > 0);  // the damping is in play: the predictors differ
+  CHECK(moved > m.n_free);
+  CHECK(secant_err < 1e-15);
+  CHECK(damped_err < 1e-15);
+}
+
+TEST_CASE("predictor = true is the secant where Newton relaxes, eq. 2.11 where asked", "[mc][newton]") {
+  // The cracking load path three ways: the automatic predictor (the deck's true) gives the
+  // secant's bits under Newton; "damped" starts the loaded steps elsewhere (other bits), and all
+  // three end every step below the residual.
+  auto run = [&](deck::Load::PredictorKind kind) {
+    auto d = newton_deck();
+    d.load.predictor_kind = kind;
+    auto st = make(d);
+    mc::Solver solver(d, st.s, st.f);
+    std::vector<mc::StepRecord> rows;
+    solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });
+    REQUIRE_FALSE(solver.failed());
+    for (const auto& r : rows) CHECK(r.residual < 1e-9);
+    return rows;
+  };
+  using Kind = deck::Load::PredictorKind;
+  const auto automatic = run(Kind::automatic), secant = run(Kind::secant), damped = run(Kind::damped);
+  REQUIRE(automatic.size() == secant.size());
+  bool differs = damped.size() != secant.size();
+  for (std::size_t k = 0; k < secant.size(); ++k) {
+    CHECK(automatic[k].energy == secant[k].energy);
+    CHECK(automatic[k].inner_iterations == secant[k].inner_iterations);
+    if (k < damped.size()) differs = differs || damped[k].inner_iterations != secant[k].inner_iterations;
+  }
+  CHECK(differs);
+}

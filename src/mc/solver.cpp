@@ -685,9 +685,18 @@ long SolverOn<Exec>::relax_auto(bool& converged, long limit) {
 template <class Exec>
 void SolverOn<Exec>::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
-  brick_energy(space_, m_, phi_);
   cache_valid_ = false;
-  predict_poses(space_, m_, prev_pose_, phi_, ratio);
+  // the secant where Newton relaxes (unless the deck asks for eq. 2.11's), eq. 2.11's elsewhere
+  // (unless it asks for the secant): deck/deck.hpp Load::PredictorKind, mc/kernels.hpp
+  using Kind = deck::Load::PredictorKind;
+  const Kind kind = cfg_.load.predictor_kind;
+  const bool newton = cfg_.relax == Relaxation::newton || cfg_.relax == Relaxation::automatic;
+  if (kind == Kind::secant || (kind == Kind::automatic && newton)) {
+    predict_poses(space_, SecantPredictor{}, m_, prev_pose_, ratio);
+  } else {
+    brick_energy(space_, m_, phi_);
+    predict_poses(space_, m_, prev_pose_, phi_, ratio);
+  }
   refresh_halo();
 }
 

@@ -769,6 +769,27 @@ void predict_poses(const ExecutionSpace& space, const Model<MemorySpace>& m,
       });
 }
 
+/// \brief The plain secant predictor for the free bricks: p += ratio (p - p_prev), every brick
+/// alike (no energy damping). Where Newton relaxes (relaxation = "newton", "auto") it is the
+/// default: eq. 2.11's damping holds back exactly the bricks of the process zone, which then start
+/// each load step behind, and after the peak the trust region walked them into other (higher)
+/// converged states. Measured on the 20k-brick reference path (docs/speed_accuracy.md): 603 -> 484
+/// Newton steps, post-peak energies at or nearer FIRE's reference.
+struct SecantPredictor {};
+
+template <class ExecutionSpace, class MemorySpace>
+void predict_poses(const ExecutionSpace& space, SecantPredictor, const Model<MemorySpace>& m,
+                   typename Model<MemorySpace>::PoseView prev, double ratio) {
+  check_access<ExecutionSpace, MemorySpace>();
+  auto p = m.pose;
+  Kokkos::parallel_for(
+      "nacre::mc::predict_secant", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_free), KOKKOS_LAMBDA(const int b) {
+        const kinematics::Pose q{p(b, 0) + ratio * (p(b, 0) - prev(b, 0)), p(b, 1) + ratio * (p(b, 1) - prev(b, 1)),
+                                 p(b, 2) + ratio * (p(b, 2) - prev(b, 2))};
+        store_frame(p, b, kinematics::make_frame(q));
+      });
+}
+
 /// \brief eq. 2.7: a step size s after a window with acceptance a: s (0.5 + a) clamped to
 /// [lo, hi] when a is outside [0.4, 0.6], else unchanged.
 KOKKOS_INLINE_FUNCTION double adapted_step(double s, double a, double lo, double hi) {

@@ -48,7 +48,18 @@ void read_load(Section& top, Deck& d) {
   l.number("min_step", {"MinLoadStepSize"}, L.min_step, positive, "a positive displacement");
   l.number("max_step", {"MaxLoadStepSize"}, L.max_step, positive, "a positive displacement");
   l.boolean("adaptive", L.adaptive);
-  l.boolean("predictor", L.predictor);
+  // predictor: true (the one suited to the relaxation), false, or "damped" / "secant"
+  if (const toml::node* n = l.find("predictor", {})) {
+    const std::string expected = "true, false, \"damped\" (eq. 2.11) or \"secant\"";
+    if (auto b = n->value_exact<bool>()) {
+      L.predictor = *b;
+    } else if (auto s = n->value_exact<std::string>(); s && (*s == "damped" || *s == "secant")) {
+      L.predictor = true;
+      L.predictor_kind = *s == "damped" ? Load::PredictorKind::damped : Load::PredictorKind::secant;
+    } else {
+      l.fail("predictor", "unknown value; expected " + expected);
+    }
+  }
   l.integer("max_ruptures_per_step", {}, L.max_ruptures_per_step, 0, 1000000000,
             "an interface count >= 0 (0: no snap-back control)");
   // unknown keys first: a misspelt "bendng" is named, not reported as a zero bending
