@@ -136,6 +136,46 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
         }
       CHECK(std::abs(uhv - vhu) <= 1e-10 * norm);
     }
+  // The cached sines and cosines (brick_trig, TrigView) give the bits of kinematics::make_frame
+  // on dual numbers, evaluated per interface end: the product before the cache, written out
+  // here (per-interface tangents, then each brick's in adjacency order)
+  {
+    const mc::InterfaceEvaluator<MemSpace> ev(m);
+    auto off = m.adj_offset, adj = m.adj_iface;
+    mc::GradientView<> ref("nacre::test::hv_make_frame", nf);
+    Kokkos::View<double* [6], MemSpace> tan("nacre::test::tangents", m.n_interfaces);
+    for (std::size_t q = 0; q < 3; ++q) {
+      Kokkos::deep_copy(vd, dirs[q]);
+      Kokkos::parallel_for(
+          "nacre::test::tangent_make_frame", Kokkos::RangePolicy<ExecSpace>(0, m.n_interfaces),
+          KOKKOS_LAMBDA(const int i) {
+            const int a = ev.ends(i, 0), c = ev.ends(i, 1);
+            auto seeded = [&](int j) {
+              const bool f = j < nf;
+              return kinematics::make_frame(ad::Dual{ev.pose(j, 0), f ? vd(j, 0) : 0.0},
+                                            ad::Dual{ev.pose(j, 1), f ? vd(j, 1) : 0.0},
+                                            ad::Dual{ev.pose(j, 2), f ? vd(j, 2) : 0.0});
+            };
+            ad::Dual ga[3], gc[3];
+            kinematics::interface_gradient(ev.law(i), mc::load_segment(ev.seg, i), seeded(a), seeded(c), ga, gc);
+            for (int k = 0; k < 3; ++k) tan(i, k) = ga[k].d, tan(i, 3 + k) = gc[k].d;
+          });
+      Kokkos::parallel_for(
+          "nacre::test::hv_make_frame", Kokkos::RangePolicy<ExecSpace>(0, nf), KOKKOS_LAMBDA(const int b) {
+            double h[3] = {0.0, 0.0, 0.0};
+            for (int j = off(b); j < off(b + 1); ++j) {
+              const int i = adj(j), o = ev.ends(i, 0) == b ? 0 : 3;
+              h[0] += tan(i, o), h[1] += tan(i, o + 1), h[2] += tan(i, o + 2);
+            }
+            ref(b, 0) = h[0], ref(b, 1) = h[1], ref(b, 2) = h[2];
+          });
+      const auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, ref);
+      int differ = 0;
+      for (int b = 0; b < nf; ++b)
+        for (int c = 0; c < 3; ++c) differ += rh(b, c) != prods[q](b, c);
+      CHECK(differ == 0);
+    }
+  }
   // the diagonal blocks are H applied to one brick's unit directions
   mc::BlockView<> blocks("nacre::test::blocks", nf);
   mc::hessian_blocks(ExecSpace{}, m, blocks);
@@ -182,6 +222,24 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
       CHECK(err <= (precision == mc::FactorPrecision::single ? 1e-5 : 1e-12) * norm);  // measured 6.7e-7, 1.6e-15
       tr.precondition(ExecSpace{}, m, floor_t, floor_r, false);
       CHECK(tr.shift() <= sigma);  // from sigma = 0 again: never a larger shift than the hinted search's
+      // A factor after the first writes H's values into the run's fixed pattern instead of
+      // assembling triplets: at another state (the poses moved), its solve has the bits of a
+      // new factor's, which assembles from triplets
+      move(m, b0, dirs[0], 1e-6);
+      tr.precondition(ExecSpace{}, m, floor_t, floor_r, false);
+      mc::TrustRegion<ExecSpace> fresh(ExecSpace{}, m, mc::NewtonPreconditioner::automatic, precision);
+      fresh.precondition(ExecSpace{}, m, floor_t, floor_r, false);
+      CHECK(tr.shift() == fresh.shift());
+      mc::GradientView<> y2("nacre::test::y2", nf);
+      tr.precondition_apply(ExecSpace{}, rd, yd, nf);
+      fresh.precondition_apply(ExecSpace{}, rd, y2, nf);
+      const auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, yd);
+      const auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, y2);
+      int differ = 0;
+      for (int b = 0; b < nf; ++b)
+        for (int c = 0; c < 3; ++c) differ += a(b, c) != f(b, c);
+      CHECK(differ == 0);
+      move(m, b0, dirs[0], 0.0);
     }
   }
   // Steihaug-CG's recurrences (trust_region.hpp): its model value q(s) against g.s + s.H s / 2

@@ -193,6 +193,8 @@ struct HessianFactor::Impl {
   std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
   std::vector<std::vector<long long>> of_rank;  // rank 0: each rank's free bricks' one-process indices
   bool analysed = false, ready = false;
+  std::vector<std::size_t> value_at;  // rank 0: per entry in factor()'s order, its place among H's values
+  std::vector<char> first_at;         // rank 0: 1 where that entry is its place's first
   double shift = 0;
   int nf = 0;       // this rank's free bricks
   long long n = 0;  // free bricks of the whole specimen
@@ -299,17 +301,32 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
       }
     }
     const long long n = 3 * I.n;
-    std::size_t words = 0;  // 7 a brick, 10 a slot
-    for (const auto& p : parts) words += p.size();
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(9 * static_cast<std::size_t>(I.n) + 9 * (words - 7 * static_cast<std::size_t>(I.n)) / 10);
     std::vector<double> scale(static_cast<std::size_t>(n));
     const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+    // H's entries in one fixed order (brick by brick: its diagonal block, then its slots'):
+    // the first call makes H from them as triplets and records where each lands among H's
+    // values; later calls (the pattern is the run's) write them there, duplicates (two joints
+    // between one pair) added in the same order as Eigen's setFromTriplets adds them, so H has
+    // the same bits without a triplet sort per factor (about 60 ms a factor at 20k bricks)
+    const bool first = !I.analysed;
+    std::vector<Eigen::Triplet<double>> t;
+    double* h = first ? nullptr : I.H.valuePtr();
+    if (!first) std::fill(h, h + I.H.nonZeros(), 0.0);
+    std::size_t e = 0;  // the entry's rank in the fixed order
+    auto put = [&](int r, int c, double v) {
+      if (first)
+        t.emplace_back(r, c, v);
+      else if (I.first_at[e])
+        h[I.value_at[e]] = v;
+      else
+        h[I.value_at[e]] += v;
+      ++e;
+    };
     for (long long b = 0; b < I.n; ++b) {
       const double* p = at[static_cast<std::size_t>(b)];
       const auto B = static_cast<int>(3 * b);
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) t.emplace_back(B + r, B + c, p[idx[r][c]]);
+        for (int c = 0; c < 3; ++c) put(B + r, B + c, p[idx[r][c]]);
       scale[B] = std::max(std::abs(p[0]), floor_t);
       scale[B + 1] = std::max(std::abs(p[1]), floor_t);
       scale[B + 2] = std::max(std::abs(p[2]), floor_r);
@@ -318,15 +335,28 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
         const double* q = p + 7 + 10 * s;
         const int O = 3 * static_cast<int>(q[0]);
         for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) t.emplace_back(B + r, O + c, q[1 + 3 * r + c]);
+          for (int c = 0; c < 3; ++c) put(B + r, O + c, q[1 + 3 * r + c]);
       }
     }
     parts.clear();
-    I.H.resize(n, n);
-    I.H.setFromTriplets(t.begin(), t.end());  // duplicates (two joints between one pair) add up
-    if (!I.analysed) {
+    if (first) {
+      I.H.resize(n, n);
+      I.H.setFromTriplets(t.begin(), t.end());  // duplicates add up, in the triplets' order
+      I.value_at.resize(t.size());
+      I.first_at.assign(t.size(), 0);
+      std::vector<char> seen(static_cast<std::size_t>(I.H.nonZeros()), 0);
+      for (std::size_t k = 0; k < t.size(); ++k) {  // column-major: the row among the column's
+        const int* lo = I.H.innerIndexPtr() + I.H.outerIndexPtr()[t[k].col()];
+        const int* hi = I.H.innerIndexPtr() + I.H.outerIndexPtr()[t[k].col() + 1];
+        const auto at_k = static_cast<std::size_t>(std::lower_bound(lo, hi, t[k].row()) - I.H.innerIndexPtr());
+        I.value_at[k] = at_k;
+        I.first_at[k] = seen[at_k] ? 0 : 1;
+        seen[at_k] = 1;
+      }
       I.llt->analyse(I.H);
       I.analysed = true;
+    } else if (e != I.value_at.size()) {
+      throw std::logic_error("nacre::mc::HessianFactor: the Hessian's pattern changed within a run");
     }
     // H itself, else H + sigma diag(scale), sigma in 1e-4, 1e-3, ... (tenfold). A failed attempt
     // costs about what a factor does (0.24 s against 0.27 s at 20k bricks), so past sigma = 0 the

@@ -25,13 +25,6 @@
 namespace nacre::mc {
 
 namespace detail {
-/// Frame f on dual numbers seeded with the unit direction k of its pose (0: x, 1: y, 2: theta;
-/// any other k: no seed, a frame held fixed).
-KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> unit_seeded(const kinematics::Frame& f, int k) {
-  return kinematics::make_frame(ad::Dual{f.x, k == 0 ? 1.0 : 0.0}, ad::Dual{f.y, k == 1 ? 1.0 : 0.0},
-                                ad::Dual{f.t, k == 2 ? 1.0 : 0.0});
-}
-
 /// Whether brick j's pose is an unknown: the first n_free bricks of one process, or (spread over
 /// ranks) where `mask` says so, which includes the halo's free bricks.
 template <class Mask>
@@ -39,13 +32,33 @@ KOKKOS_INLINE_FUNCTION bool is_free(const Mask& mask, int j, int n_free) {
   return mask.data() ? mask(j) != 0 : j < n_free;
 }
 
+/// Brick j's frame on dual numbers with its pose seeded by (dx, dy, dt): exactly
+/// kinematics::make_frame on duals, with the sines and cosines read from the pose's cache
+/// (sin t) and from `trig` (brick_trig) instead of evaluated: the same operations on the same
+/// values, so the same bits.
+template <class PV, class TV>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> dual_frame(const PV& pose, const TV& trig, int j, double dx,
+                                                                   double dy, double dt) {
+  const ad::Dual t{pose(j, 2), dt};
+  const ad::Dual half = 0.5 * t;
+  const ad::Dual h{trig(j, 1), trig(j, 2) * half.d};  // sc::sin(0.5 t)
+  const ad::Dual s{pose(j, 3), trig(j, 0) * t.d};     // sc::sin(t)
+  return kinematics::BasicFrame<ad::Dual>{ad::Dual{pose(j, 0), dx}, ad::Dual{pose(j, 1), dy}, t, s, -2.0 * h * h};
+}
+
+/// Brick j's frame seeded with the unit direction k of its pose (0: x, 1: y, 2: theta; any
+/// other k: no seed, a frame held fixed).
+template <class PV, class TV>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> unit_seeded(const PV& pose, const TV& trig, int j, int k) {
+  return dual_frame(pose, trig, j, k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+}
+
 /// Brick j's frame with its pose seeded by v (free bricks; driven ones stay put).
-template <class PV, class V, class Mask>
-KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const V& v, int j, int n_free,
-                                                                     const Mask& mask) {
+template <class PV, class TV, class V, class Mask>
+KOKKOS_INLINE_FUNCTION kinematics::BasicFrame<ad::Dual> seeded_frame(const PV& pose, const TV& trig, const V& v, int j,
+                                                                     int n_free, const Mask& mask) {
   const bool free = is_free(mask, j, n_free);
-  return kinematics::make_frame(ad::Dual{pose(j, 0), free ? v(j, 0) : 0.0}, ad::Dual{pose(j, 1), free ? v(j, 1) : 0.0},
-                                ad::Dual{pose(j, 2), free ? v(j, 2) : 0.0});
+  return dual_frame(pose, trig, j, free ? v(j, 0) : 0.0, free ? v(j, 1) : 0.0, free ? v(j, 2) : 0.0);
 }
 
 /// d/de of brick b's gradient with b's neighbours in frames `other` (a functor j -> dual frame)
@@ -82,6 +95,39 @@ using FreeMask = Kokkos::View<const std::uint8_t*, MemorySpace>;
 template <class MemorySpace = MemSpace>
 using TangentView = Kokkos::View<double* [6], Kokkos::LayoutLeft, MemorySpace>;
 
+/// \brief Per brick, cos t, sin(t / 2) and cos(t / 2) of its pose: what the dual-number frames
+/// of H v and of the Hessian's blocks need besides the pose and its cached sin t (Model::pose).
+/// They depend on the poses only, so a Newton step evaluates them once for all its products
+/// (brick_trig) instead of once per interface end and product: 8 sines and cosines an
+/// interface were 40 % of a product's time (measured: docs/speed_accuracy.md). LayoutLeft: a
+/// kernel reads one component of consecutive bricks.
+template <class MemorySpace = MemSpace>
+using TrigView = Kokkos::View<double* [3], Kokkos::LayoutLeft, MemorySpace>;
+
+/// \brief trig = the sines and cosines of every model brick's pose (TrigView), at the poses now.
+template <class ExecutionSpace, class MemorySpace>
+void brick_trig(const ExecutionSpace& space, const Model<MemorySpace>& m, const TrigView<MemorySpace>& trig) {
+  check_access<ExecutionSpace, MemorySpace>();
+  NACRE_ASSERT(trig.extent(0) >= static_cast<std::size_t>(m.n_bricks), "brick_trig: a row per model brick");
+  auto pose = m.pose;
+  Kokkos::parallel_for(
+      "nacre::mc::newton::brick_trig", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_bricks),
+      KOKKOS_LAMBDA(const int j) {
+        const double t = pose(j, 2), h = 0.5 * t;
+        trig(j, 0) = Kokkos::cos(t), trig(j, 1) = Kokkos::sin(h), trig(j, 2) = Kokkos::cos(h);
+      });
+}
+
+/// \brief brick_trig into a View of its own.
+template <class ExecutionSpace, class MemorySpace>
+TrigView<MemorySpace> brick_trig(const ExecutionSpace& space, const Model<MemorySpace>& m) {
+  TrigView<MemorySpace> trig(
+      Kokkos::view_alloc(space, Kokkos::WithoutInitializing, std::string("nacre::mc::newton::brick_trig")),
+      static_cast<std::size_t>(m.n_bricks));
+  brick_trig(space, m, trig);
+  return trig;
+}
+
 /// \brief hv = H v over the free bricks (sweep order): the exact second derivative of the total
 /// energy in the free bricks' (x, y, theta), applied to v (see the file comment). With a mask,
 /// v has a row per model brick and its halo rows are current. Two passes: each interface's
@@ -89,11 +135,12 @@ using TangentView = Kokkos::View<double* [6], Kokkos::LayoutLeft, MemorySpace>;
 /// interfaces' rows in adjacency order. Before 2026-12-05 each brick evaluated its interfaces
 /// itself, so every interface twice; the per-interface values and the sums' order are the same,
 /// so are the bits, at half the dual-number work (measured: docs/speed_accuracy.md). `work`: a
-/// TangentView of m.n_interfaces rows (empty: allocated here).
+/// TangentView of m.n_interfaces rows (empty: allocated here). `trig`: brick_trig at the poses
+/// now (empty: evaluated here; a caller with several products at one state passes its own).
 template <class ExecutionSpace, class MemorySpace>
 void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, const GradientView<MemorySpace>& v,
                     const GradientView<MemorySpace>& hv, const FreeMask<MemorySpace>& mask = {},
-                    TangentView<MemorySpace> work = {}) {
+                    TangentView<MemorySpace> work = {}, TrigView<MemorySpace> trig = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(!m.hist.data(), "hessian_vector: the reversible law only");
   const InterfaceEvaluator<MemorySpace> ev(m);
@@ -103,6 +150,7 @@ void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, co
     work = TangentView<MemorySpace>(
         Kokkos::view_alloc(space, Kokkos::WithoutInitializing, std::string("nacre::mc::newton::interface_tangents")),
         static_cast<std::size_t>(m.n_interfaces));
+  if (!trig.data()) trig = brick_trig(space, m);
   auto t = work;
   Kokkos::parallel_for(
       "nacre::mc::newton::interface_tangent", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_interfaces),
@@ -110,8 +158,8 @@ void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, co
         const int a = ev.ends(i, 0), c = ev.ends(i, 1);
         const kinematics::Segment sg = load_segment(ev.seg, i);
         ad::Dual ga[3], gc[3];
-        kinematics::interface_gradient(ev.law(i), sg, detail::seeded_frame(ev.pose, v, a, nf, mask),
-                                       detail::seeded_frame(ev.pose, v, c, nf, mask), ga, gc);
+        kinematics::interface_gradient(ev.law(i), sg, detail::seeded_frame(ev.pose, trig, v, a, nf, mask),
+                                       detail::seeded_frame(ev.pose, trig, v, c, nf, mask), ga, gc);
         for (int k = 0; k < 3; ++k) t(i, k) = ga[k].d, t(i, 3 + k) = gc[k].d;
       });
   Kokkos::parallel_for(
@@ -132,21 +180,23 @@ void hessian_vector(const ExecutionSpace& space, const Model<MemorySpace>& m, co
 template <class MemorySpace = MemSpace>
 using BlockView = Kokkos::View<double* [6], Kokkos::LayoutLeft, MemorySpace>;
 
+/// `trig`: brick_trig at the poses now (empty: evaluated here).
 template <class ExecutionSpace, class MemorySpace>
-void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, const BlockView<MemorySpace>& blocks) {
+void hessian_blocks(const ExecutionSpace& space, const Model<MemorySpace>& m, const BlockView<MemorySpace>& blocks,
+                    TrigView<MemorySpace> trig = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(!m.hist.data(), "hessian_blocks: the reversible law only");
+  if (!trig.data()) trig = brick_trig(space, m);
   const InterfaceEvaluator<MemorySpace> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface;
   Kokkos::parallel_for(
       "nacre::mc::newton::hessian_blocks", Kokkos::RangePolicy<ExecutionSpace>(space, 0, m.n_free),
       KOKKOS_LAMBDA(const int b) {
         double H[3][3];
-        auto held = [&](int j) { return detail::unit_seeded(frame_of(ev.pose, j), -1); };
-        const kinematics::Frame f = frame_of(ev.pose, b);
+        auto held = [&](int j) { return detail::unit_seeded(ev.pose, trig, j, -1); };
         for (int k = 0; k < 3; ++k) {
           double col[3] = {0.0, 0.0, 0.0};
-          detail::brick_tangent(ev, off, adj, b, detail::unit_seeded(f, k), held, col);
+          detail::brick_tangent(ev, off, adj, b, detail::unit_seeded(ev.pose, trig, b, k), held, col);
           H[0][k] = col[0], H[1][k] = col[1], H[2][k] = col[2];
         }
         // symmetric by construction up to rounding: store the mean of the two triangles
@@ -165,9 +215,10 @@ using SlotBlockView = Kokkos::View<double* [9], Kokkos::LayoutRight, MemorySpace
 
 template <class ExecutionSpace, class MemorySpace>
 void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, const SlotBlockView<MemorySpace>& slots,
-                   const FreeMask<MemorySpace>& mask = {}) {
+                   const FreeMask<MemorySpace>& mask = {}, TrigView<MemorySpace> trig = {}) {
   check_access<ExecutionSpace, MemorySpace>();
   NACRE_ASSERT(!m.hist.data(), "hessian_slots: the reversible law only");
+  if (!trig.data()) trig = brick_trig(space, m);
   const InterfaceEvaluator<MemorySpace> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface;
   const int nf = m.n_free;
@@ -181,10 +232,9 @@ void hessian_slots(const ExecutionSpace& space, const Model<MemorySpace>& m, con
           for (int q = 0; q < 9; ++q) slots(j, q) = 0.0;
           if (!detail::is_free(mask, other, nf)) continue;  // a driven neighbour: no unknowns
           const kinematics::Segment sg = load_segment(ev.seg, i);
-          const kinematics::Frame fo = frame_of(ev.pose, other);
-          const auto mine = detail::unit_seeded(frame_of(ev.pose, b), -1);
+          const auto mine = detail::unit_seeded(ev.pose, trig, b, -1);
           for (int k = 0; k < 3; ++k) {
-            const auto seeded = detail::unit_seeded(fo, k);
+            const auto seeded = detail::unit_seeded(ev.pose, trig, other, k);
             ad::Dual ga[3], gc[3];
             if (a == b)
               kinematics::interface_gradient(ev.law(i), sg, mine, seeded, ga, gc);

@@ -82,6 +82,7 @@ public:
     md_ = vec("nacre::mc::newton::m_direction");
     tangents_ = TangentView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::interface_tangents"),
                               static_cast<std::size_t>(m.n_interfaces));
+    trig_ = TrigView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::brick_trig")), nb);
     constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
     if (pc == NewtonPreconditioner::cholesky && !host)
       throw std::invalid_argument(
@@ -184,6 +185,12 @@ private:
   bool last_negative_ = false;           ///< the last Newton step's CG met negative curvature
   SlotBlockView<> slots_;
   TangentView<> tangents_;  ///< H v's per-interface pass
+  TrigView<> trig_;         ///< the poses' sines and cosines (brick_trig) for H v and the Hessian's blocks
+  bool trig_now_ = false;   ///< trig_ is the current poses' (run(): from a Newton step's start to its move)
+  /// trig_ at the poses now, evaluated unless run() has them for this Newton step
+  void fresh_trig(const ExecutionSpace& space, const Model<>& m) {
+    if (!trig_now_) brick_trig(space, m, trig_);
+  }
 };
 
 // ---------------------------------------------------------------------------------- kernels
@@ -254,9 +261,10 @@ double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, S
 template <class ExecutionSpace>
 void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<>& m, double floor_t,
                                                double floor_r, bool indefinite) {
-  hessian_blocks(space, m, mblk_);
+  fresh_trig(space, m);
+  hessian_blocks(space, m, mblk_, trig_);
   if (factor_) {
-    hessian_slots(space, m, slots_, mask());
+    hessian_slots(space, m, slots_, mask(), trig_);
     space.fence("nacre::mc::newton::factor");
     factor_->factor(m, mblk_, slots_, floor_t, floor_r, indefinite);
     active_ = factor_.get();
@@ -294,8 +302,9 @@ void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, 
     Model<> m0 = m;  // the same interfaces, every brick at its reference pose
     m0.pose = Model<>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::newton::reference_pose")),
                                 static_cast<std::size_t>(m.n_bricks));
-    hessian_blocks(space, m0, mblk_);
-    hessian_slots(space, m0, slots_, mask());
+    const auto trig0 = brick_trig(space, m0);
+    hessian_blocks(space, m0, mblk_, trig0);
+    hessian_slots(space, m0, slots_, mask(), trig0);
     space.fence("nacre::mc::newton::reference_factor");
     ref_factor_->factor(m0, mblk_, slots_, floor_t, floor_r);
     ref_ready_ = true;
@@ -350,6 +359,7 @@ typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::stei
   Kokkos::parallel_for(
       "nacre::mc::newton::cg_first_direction", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
       KOKKOS_LAMBDA(const int i) { d(i, 0) = -y(i, 0), d(i, 1) = -y(i, 1), d(i, 2) = -y(i, 2); });
+  fresh_trig(space, m);  // the poses hold still for every product below
   Steihaug out;
   double ry = dot(space, ws, r, y, nf);
   const double stop = eta * eta * ry;  // ||r||_{M^-1}^2 <= eta^2 ||g||_{M^-1}^2
@@ -366,7 +376,7 @@ typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::stei
   while (out.iterations < max_cg && ry > stop) {
     ++out.iterations;
     halo_rows(space, d);
-    hessian_vector(space, m, d, hd, mask(), tangents_);
+    hessian_vector(space, m, d, hd, mask(), tangents_, trig_);
     const double dhd = dot(space, ws, d, hd, nf);
     if (!(dhd > 0.0)) {  // negative (or no) curvature: follow d to the boundary
       out.negative = true;
@@ -438,6 +448,9 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
   double g0 = 0.0;
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
     ++r.iterations;
+    // the poses' sines and cosines once for this Newton step's preconditioner and CG products
+    brick_trig(space, m, trig_);
+    trig_now_ = true;
     // the preconditioner: block-Jacobi at every Newton step (cheap); with Cholesky, the intact
     // wall's factor (made once per run, state-independent) until it serves CG badly (more than
     // kRefactorCg iterations: joints soften or rupture), then the factor of the current H for
@@ -464,6 +477,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     const double gs = dot(space, ws, grad, z, nf);
     const double pred = -cg.model, sHs = 2.0 * (cg.model - gs);
     const double snorm = std::sqrt(cg.snorm2);
+    trig_now_ = false;  // the poses move from here on
     // the trial: poses moved by s, the energy change summed interface by interface
     Kokkos::parallel_for(
         "nacre::mc::newton::move", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
@@ -537,6 +551,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
       break;
     }
   }
+  trig_now_ = false;
   r.converged = r.residual < o.tolerance;
   space.fence("nacre::mc::polish_trust_region");
   return r;
