@@ -193,6 +193,7 @@ struct HessianFactor::Impl {
   std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
   std::vector<std::vector<long long>> of_rank;  // rank 0: each rank's free bricks' one-process indices
   bool analysed = false, ready = false;
+  bool direct = false;  // one process numbering its free bricks 0, 1, ...: through_root without copies
   std::vector<std::size_t> value_at;  // rank 0: per entry in factor()'s order, its place among H's values
   std::vector<char> first_at;         // rank 0: 1 where that entry is its place's first
   double shift = 0;
@@ -215,6 +216,8 @@ struct HessianFactor::Impl {
     std::vector<long long> mine(global_free.begin(), global_free.begin() + nf);
     n = comm.sum(static_cast<long long>(nf));
     of_rank = comm.gather(std::move(mine));
+    direct = comm.size() == 1;
+    for (std::size_t k = 0; direct && k < of_rank[0].size(); ++k) direct = of_rank[0][k] == static_cast<long long>(k);
     ready = true;
   }
   /// rank 0: the pieces of every rank in one-process order (x placed at of_rank's indices)
@@ -228,6 +231,15 @@ struct HessianFactor::Impl {
   /// y = op(r) on the whole vector: gathered to rank 0, op there, scattered back
   template <class Op>
   void through_root(const GradientView<>& r, const GradientView<>& y, const Op& op) const {
+    if (direct) {  // one process in its own order: r's rows are the vector (no gather or scatter copies)
+      Eigen::VectorXd v(3 * static_cast<Eigen::Index>(nf));
+      for (int b = 0; b < nf; ++b)
+        for (int k = 0; k < 3; ++k) v(3 * b + k) = r(b, k);
+      const Eigen::VectorXd x = op(v);
+      for (int b = 0; b < nf; ++b)
+        for (int k = 0; k < 3; ++k) y(b, k) = x(3 * b + k);
+      return;
+    }
     std::vector<double> mine(3 * static_cast<std::size_t>(nf));
     for (int b = 0; b < nf; ++b)
       for (int k = 0; k < 3; ++k) mine[3 * static_cast<std::size_t>(b) + k] = r(b, k);
