@@ -111,9 +111,10 @@ TEST_CASE("predictor: true, false, \"damped\" or \"secant\"", "[deck]") {
   CHECK((with("\"damped\"").predictor && with("\"damped\"").predictor_kind == Kind::damped));
   CHECK((with("\"secant\"").predictor && with("\"secant\"").predictor_kind == Kind::secant));
   CHECK_THAT(error_of(base + "predictor = \"linear\"\n"),
-             StartsWith("deck.toml:15: load.predictor: unknown value; expected true, false, \"damped\" (eq. 2.11) or "
-                        "\"secant\""));
-  CHECK_THAT(error_of(base + "predictor = 1\n"), StartsWith("deck.toml:15: load.predictor: unknown value"));
+             StartsWith("deck.toml:15: load.predictor: unknown value \"linear\"; expected true, false, \"damped\" "
+                        "(eq. 2.11) or \"secant\""));
+  CHECK_THAT(error_of(base + "predictor = 1\n"),
+             StartsWith("deck.toml:15: load.predictor: wrong type (an integer); expected true, false, \"damped\""));
 }
 
 TEST_CASE("out-of-range values are errors", "[deck]") {

@@ -61,12 +61,13 @@ public:
   /// \brief The TOML table read (nullptr when the section is absent).
   [[nodiscard]] const toml::table* table() const { return table_; }
   [[nodiscard]] int line() const { return line_; }
+  /// \brief A node's TOML type in words ("an integer"), for "wrong type (...)" messages.
+  static std::string type_name(const toml::node& n);
 
 private:
   bool integer_value(std::string_view key, std::initializer_list<std::string_view> aliases,
                      std::int64_t& out, long lo, long hi, const std::string& expected);
   [[nodiscard]] std::string qualified(std::string_view key) const;
-  static std::string type_name(const toml::node& n);
   static std::string fmt(double v);
 
   std::string file_, name_;

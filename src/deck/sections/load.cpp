@@ -53,11 +53,12 @@ void read_load(Section& top, Deck& d) {
     const std::string expected = "true, false, \"damped\" (eq. 2.11) or \"secant\"";
     if (auto b = n->value_exact<bool>()) {
       L.predictor = *b;
-    } else if (auto s = n->value_exact<std::string>(); s && (*s == "damped" || *s == "secant")) {
+    } else if (auto s = n->value_exact<std::string>()) {
+      if (*s != "damped" && *s != "secant") l.fail("predictor", "unknown value \"" + *s + "\"; expected " + expected);
       L.predictor = true;
       L.predictor_kind = *s == "damped" ? Load::PredictorKind::damped : Load::PredictorKind::secant;
     } else {
-      l.fail("predictor", "unknown value; expected " + expected);
+      l.fail("predictor", "wrong type (" + Section::type_name(*n) + "); expected " + expected);
     }
   }
   l.integer("max_ruptures_per_step", {}, L.max_ruptures_per_step, 0, 1000000000,
