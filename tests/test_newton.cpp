@@ -143,7 +143,7 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
     const mc::InterfaceEvaluator<MemSpace> ev(m);
     auto off = m.adj_offset, adj = m.adj_iface;
     mc::GradientView<> ref("nacre::test::hv_make_frame", nf);
-    Kokkos::View<double* [6], MemSpace> tan("nacre::test::tangents", m.n_interfaces);
+    Kokkos::View<double* [6], MemSpace> tangent("nacre::test::tangents", m.n_interfaces);
     for (std::size_t q = 0; q < 3; ++q) {
       Kokkos::deep_copy(vd, dirs[q]);
       Kokkos::parallel_for(
@@ -158,14 +158,14 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
             };
             ad::Dual ga[3], gc[3];
             kinematics::interface_gradient(ev.law(i), mc::load_segment(ev.seg, i), seeded(a), seeded(c), ga, gc);
-            for (int k = 0; k < 3; ++k) tan(i, k) = ga[k].d, tan(i, 3 + k) = gc[k].d;
+            for (int k = 0; k < 3; ++k) tangent(i, k) = ga[k].d, tangent(i, 3 + k) = gc[k].d;
           });
       Kokkos::parallel_for(
           "nacre::test::hv_make_frame", Kokkos::RangePolicy<ExecSpace>(0, nf), KOKKOS_LAMBDA(const int b) {
             double h[3] = {0.0, 0.0, 0.0};
             for (int j = off(b); j < off(b + 1); ++j) {
               const int i = adj(j), o = ev.ends(i, 0) == b ? 0 : 3;
-              h[0] += tan(i, o), h[1] += tan(i, o + 1), h[2] += tan(i, o + 2);
+              h[0] += tangent(i, o), h[1] += tangent(i, o + 1), h[2] += tangent(i, o + 2);
             }
             ref(b, 0) = h[0], ref(b, 1) = h[1], ref(b, 2) = h[2];
           });
