@@ -193,7 +193,6 @@ struct HessianFactor::Impl {
   std::vector<int> global_free;                 // per local brick: one-process free index, -1 held
   std::vector<std::vector<long long>> of_rank;  // rank 0: each rank's free bricks' one-process indices
   bool analysed = false, ready = false;
-  bool direct = false;  // one process numbering its free bricks 0, 1, ...: through_root without copies
   std::vector<std::size_t> value_at;  // rank 0: per entry in factor()'s order, its place among H's values
   std::vector<char> first_at;         // rank 0: 1 where that entry is its place's first
   double shift = 0;
@@ -216,8 +215,6 @@ struct HessianFactor::Impl {
     std::vector<long long> mine(global_free.begin(), global_free.begin() + nf);
     n = comm.sum(static_cast<long long>(nf));
     of_rank = comm.gather(std::move(mine));
-    direct = comm.size() == 1;
-    for (std::size_t k = 0; direct && k < of_rank[0].size(); ++k) direct = of_rank[0][k] == static_cast<long long>(k);
     ready = true;
   }
   /// rank 0: the pieces of every rank in one-process order (x placed at of_rank's indices)
@@ -231,15 +228,6 @@ struct HessianFactor::Impl {
   /// y = op(r) on the whole vector: gathered to rank 0, op there, scattered back
   template <class Op>
   void through_root(const GradientView<>& r, const GradientView<>& y, const Op& op) const {
-    if (direct) {  // one process in its own order: r's rows are the vector (no gather or scatter copies)
-      Eigen::VectorXd v(3 * static_cast<Eigen::Index>(nf));
-      for (int b = 0; b < nf; ++b)
-        for (int k = 0; k < 3; ++k) v(3 * b + k) = r(b, k);
-      const Eigen::VectorXd x = op(v);
-      for (int b = 0; b < nf; ++b)
-        for (int k = 0; k < 3; ++k) y(b, k) = x(3 * b + k);
-      return;
-    }
     std::vector<double> mine(3 * static_cast<std::size_t>(nf));
     for (int b = 0; b < nf; ++b)
       for (int k = 0; k < 3; ++k) mine[3 * static_cast<std::size_t>(b) + k] = r(b, k);
@@ -321,9 +309,15 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
     // between one pair) added in the same order as Eigen's setFromTriplets adds them, so H has
     // the same bits without a triplet sort per factor (about 60 ms a factor at 20k bricks)
     const bool first = !I.analysed;
+    std::size_t words = 0;  // 7 a brick, 10 a slot of 9 entries
+    for (const auto& p : parts) words += p.size();
+    const std::size_t entries =
+        9 * static_cast<std::size_t>(I.n) + 9 * (words - 7 * static_cast<std::size_t>(I.n)) / 10;
+    if (!first && entries != I.value_at.size())
+      throw std::logic_error("nacre::mc::HessianFactor: the Hessian's pattern changed within a run");
     std::vector<Eigen::Triplet<double>> t;
-    double* h = first ? nullptr : I.H.valuePtr();
-    if (!first) std::fill(h, h + I.H.nonZeros(), 0.0);
+    if (first) t.reserve(entries);
+    double* h = first ? nullptr : I.H.valuePtr();  // every place has a first entry: no zeroing needed
     std::size_t e = 0;  // the entry's rank in the fixed order
     auto put = [&](int r, int c, double v) {
       if (first)
@@ -367,8 +361,6 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
       }
       I.llt->analyse(I.H);
       I.analysed = true;
-    } else if (e != I.value_at.size()) {
-      throw std::logic_error("nacre::mc::HessianFactor: the Hessian's pattern changed within a run");
     }
     // H itself, else H + sigma diag(scale), sigma in 1e-4, 1e-3, ... (tenfold). A failed attempt
     // costs about what a factor does (0.24 s against 0.27 s at 20k bricks), so past sigma = 0 the

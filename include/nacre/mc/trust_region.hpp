@@ -186,11 +186,6 @@ private:
   SlotBlockView<> slots_;
   TangentView<> tangents_;  ///< H v's per-interface pass
   TrigView<> trig_;         ///< the poses' sines and cosines (brick_trig) for H v and the Hessian's blocks
-  bool trig_now_ = false;   ///< trig_ is the current poses' (run(): from a Newton step's start to its move)
-  /// trig_ at the poses now, evaluated unless run() has them for this Newton step
-  void fresh_trig(const ExecutionSpace& space, const Model<>& m) {
-    if (!trig_now_) brick_trig(space, m, trig_);
-  }
 };
 
 // ---------------------------------------------------------------------------------- kernels
@@ -261,7 +256,7 @@ double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, S
 template <class ExecutionSpace>
 void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<>& m, double floor_t,
                                                double floor_r, bool indefinite) {
-  fresh_trig(space, m);
+  brick_trig(space, m, trig_);
   hessian_blocks(space, m, mblk_, trig_);
   if (factor_) {
     hessian_slots(space, m, slots_, mask(), trig_);
@@ -359,7 +354,7 @@ typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::stei
   Kokkos::parallel_for(
       "nacre::mc::newton::cg_first_direction", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf),
       KOKKOS_LAMBDA(const int i) { d(i, 0) = -y(i, 0), d(i, 1) = -y(i, 1), d(i, 2) = -y(i, 2); });
-  fresh_trig(space, m);  // the poses hold still for every product below
+  brick_trig(space, m, trig_);  // once for every product below (the poses hold still)
   Steihaug out;
   double ry = dot(space, ws, r, y, nf);
   const double stop = eta * eta * ry;  // ||r||_{M^-1}^2 <= eta^2 ||g||_{M^-1}^2
@@ -448,9 +443,6 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
   double g0 = 0.0;
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
     ++r.iterations;
-    // the poses' sines and cosines once for this Newton step's preconditioner and CG products
-    brick_trig(space, m, trig_);
-    trig_now_ = true;
     // the preconditioner: block-Jacobi at every Newton step (cheap); with Cholesky, the intact
     // wall's factor (made once per run, state-independent) until it serves CG badly (more than
     // kRefactorCg iterations: joints soften or rupture), then the factor of the current H for
@@ -477,7 +469,6 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     const double gs = dot(space, ws, grad, z, nf);
     const double pred = -cg.model, sHs = 2.0 * (cg.model - gs);
     const double snorm = std::sqrt(cg.snorm2);
-    trig_now_ = false;  // the poses move from here on
     // the trial: poses moved by s, the energy change summed interface by interface
     Kokkos::parallel_for(
         "nacre::mc::newton::move", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int b) {
@@ -551,7 +542,6 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
       break;
     }
   }
-  trig_now_ = false;
   r.converged = r.residual < o.tolerance;
   space.fence("nacre::mc::polish_trust_region");
   return r;
