@@ -181,6 +181,19 @@ private:
   /// (measured on the 20k-brick reference path: 21 rejections -> 1, 622 -> 603 Newton steps)
   static constexpr int kBacktracks = 8;
   static constexpr double kEtaMax = 0.05;  ///< loosest CG forcing term (the first Newton step)
+  /// The region's first radius, in units of the preconditioned gradient's M-norm (the Newton
+  /// step's length where M = H), and its growth where a step on the boundary met the model within
+  /// 10 % (rho in 0.9..1.1; 2x elsewhere above 0.75). Before 2026-12-06 1 and 2: 126 of the 484
+  /// Newton steps on the 20k-brick reference path were cut by the radius at rho within 10 % of 1
+  /// (the first step of a load step with the stale factor, and each doubling after a rupture).
+  /// With 2 and 4: 484 -> 407 Newton steps, 1,879 -> 1,724 CG iterations there, 251 -> 212 and
+  /// 272 -> 225 on the adaptive "newton" and "auto" paths, the same end states (47 ruptures, the
+  /// same energy); the default deck 707 -> 730 Newton steps, its end state unchanged. Taken singly
+  /// (measured): growth 4 alone sent the adaptive paths to a higher branch (48 ruptures, E 0.30858
+  /// against 0.30808), start 2 alone ended the reference path in another state; 8x growth arrested
+  /// the reference path at 35 ruptures (docs/speed_accuracy.md)
+  static constexpr double kRadiusStart = 2.0;
+  static constexpr double kGrowExact = 4.0;
   int last_cg_ = 0;                      ///< CG iterations of the last Newton step
   bool last_negative_ = false;           ///< the last Newton step's CG met negative curvature
   SlotBlockView<> slots_;
@@ -450,7 +463,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     // load steps preconditions exactly as the original did.
     if (!factor_ || last_cg_ > kRefactorCg) precondition(space, m, floor_t, floor_r, last_negative_);
     const double gMg = minv_norm2(space, ws, grad, nf);
-    if (radius < 0.0) radius = std::sqrt(gMg), g0 = std::sqrt(gMg);
+    if (radius < 0.0) radius = kRadiusStart * std::sqrt(gMg), g0 = std::sqrt(gMg);
     // forcing term (CG stops at eta |g|): the relative gradient (quadratic convergence), at most
     // kEtaMax, and no tighter than this step's tolerance needs (0.5 tolerance / residual). Measured
     // on a 5k-brick path at residual 1e-9 (80 steps, 41 ruptures): 892 Newton steps with the former
@@ -536,7 +549,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
     if (rho < 0.25 && !partial)
       radius = 0.25 * snorm;
     else if (rho > 0.75 && boundary)
-      radius = 2.0 * radius;
+      radius = (std::abs(rho - 1.0) < 0.1 ? kGrowExact : 2.0) * radius;
     if (!(radius > 1e-14 * g0)) {  // the region collapsed: a stall (a kink or a flat plateau)
       r.stalled = true;
       break;
