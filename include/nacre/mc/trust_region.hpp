@@ -188,7 +188,8 @@ private:
   /// (the first step of a load step with the stale factor, and each doubling after a rupture).
   /// With 2 and 4: 484 -> 407 Newton steps, 1,879 -> 1,724 CG iterations there, 251 -> 212 and
   /// 272 -> 225 on the adaptive "newton" and "auto" paths, the same end states (47 ruptures, the
-  /// same energy); the default deck 707 -> 730 Newton steps, its end state unchanged. Taken singly
+  /// same energy); the default deck 707 -> 730 Newton steps with eq. 2.11's predictor, 687 with the
+  /// secant it now names, its end state unchanged. Taken singly
   /// (measured): growth 4 alone sent the adaptive paths to a higher branch (48 ruptures, E 0.30858
   /// against 0.30808), start 2 alone ended the reference path in another state; 8x growth arrested
   /// the reference path at 35 ruptures (docs/speed_accuracy.md)
