@@ -5,7 +5,8 @@
 #   app_build                 configure + build the app (preset openmp); sets APP (NACRE_APP, when
 #                             set, names a binary to use instead: a copy that a rebuild beside a
 #                             long study cannot change under it)
-#   app_timed_run DIR [ARGS]  runs DIR/deck.toml on one thread into DIR/run; writes DIR/log.txt,
+#   app_timed_run DIR [ARGS]  runs DIR/deck.toml on one thread (NACRE_APP_THREADS threads, when
+#                             set) into DIR/run; writes DIR/log.txt, DIR/threads,
 #                             DIR/exit_code, copies steps.csv and summary.json if there, and
 #                             writes DIR/time.txt (user, system, wall seconds) last: its presence
 #                             means the run is over (a failed run included)
@@ -20,8 +21,12 @@ app_build() {
 app_timed_run() {
   local dir="$1" rc=0 TIMEFORMAT='%U %S %R' f
   shift
-  # CPU seconds are robust on a shared machine; one thread, no binding (other jobs run beside)
-  { time OMP_NUM_THREADS=1 OMP_PROC_BIND=false "$APP" "$dir/deck.toml" -o "$dir/run" --overwrite "$@" \
+  # CPU seconds are robust on a shared machine; one thread, no binding (other jobs run beside).
+  # More threads (NACRE_APP_THREADS) for a size one thread cannot finish in a session: then the
+  # wall time is the figure (idle threads spin at Kokkos' barriers and count as CPU time).
+  local threads="${NACRE_APP_THREADS:-1}"
+  echo "$threads" > "$dir/threads"
+  { time OMP_NUM_THREADS="$threads" OMP_PROC_BIND=false "$APP" "$dir/deck.toml" -o "$dir/run" --overwrite "$@" \
       > "$dir/log.txt" 2>&1 || rc=$?; } 2> "$dir/time.tmp"
   for f in steps.csv summary.json; do
     if [ -f "$dir/run/$f" ]; then cp "$dir/run/$f" "$dir/"; fi

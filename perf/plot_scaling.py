@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Scaling of total time with the number of bricks (perf/run_scaling.sh): fits time = a N^p by
-least squares in log-log, for the solve (CPU time minus initialisation), the initialisation, and
+least squares in log-log, for the solve (CPU time minus initialisation; wall time minus
+initialisation for a study run on more threads, perf/app_runs.sh's NACRE_APP_THREADS, where idle
+threads spinning at barriers would count as CPU time), the initialisation, and
 the iteration counts that explain the exponent (Monte Carlo cycles; Newton steps and CG
 iterations; FIRE steps); writes OUTDIR/scaling.csv, scaling.md and scaling.png.
 
@@ -32,11 +34,22 @@ def load(out):
         m = re.search(r"bricks, \d+ interfaces \(([0-9.eE+-]+) s\)", open(os.path.join(p, "log.txt")).read())
         init = float(m.group(1)) if m else float("nan")
         steps = list(csv.DictReader(open(os.path.join(p, "steps.csv"))))
+        tp = os.path.join(p, "threads")
+        threads = int(open(tp).read()) if os.path.exists(tp) else 1
         rows.append(dict(bricks=s["bricks"], free=s["free_bricks"], steps=s["steps"], cycles=s["cycles"],
                          polish_iterations=s["polish_iterations"], cg_iterations=s.get("cg_iterations", 0),
-                         cpu=user + sysc, wall=wall, init=init, solve=user + sysc - init,
+                         cpu=user + sysc, wall=wall, init=init, threads=threads,
+                         solve=(user + sysc if threads == 1 else wall) - init,
                          max_residual=max(float(r["residual"]) for r in steps), relaxation=relaxation_of(p)))
-    return sorted(rows, key=lambda r: r["bricks"])
+    rows.sort(key=lambda r: r["bricks"])
+    if len({r["threads"] for r in rows}) > 1:
+        sys.exit(f"plot_scaling: {out} mixes thread counts; one study is one thread count")
+    return rows
+
+
+def time_unit(rows):
+    t = rows[0]["threads"]
+    return "CPU s, 1 thread" if t == 1 else f"wall s, {t} threads"
 
 
 def fit(xs, ys):
@@ -72,11 +85,11 @@ def single(out):
     fs = fits(rows)
     with open(os.path.join(out, "scaling.md"), "w") as f:
         f.write("| bricks | relaxation | steps | MC cycles | polish / Newton it. | CG it. | max residual | init s | "
-                "solve CPU s | total CPU s |\n|---|---|---|---|---|---|---|---|---|---|\n")
+                f"solve ({time_unit(rows)}) | total CPU s | wall s |\n|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             f.write(f"| {r['bricks']} | {r['relaxation']} | {r['steps']} | {r['cycles']} | {r['polish_iterations']} | "
                     f"{r['cg_iterations']} | {r['max_residual']:.1e} | {r['init']:.3f} | {r['solve']:.1f} | "
-                    f"{r['cpu']:.1f} |\n")
+                    f"{r['cpu']:.1f} | {r['wall']:.1f} |\n")
         f.write(f"\nFitted (least squares, log-log, {len(rows)} sizes): solve time ~ {exponent(fs['solve'])}, "
                 f"cycles ~ {exponent(fs['cycles'])}, polish / Newton iterations ~ "
                 f"{exponent(fs['polish_iterations'])}, CG iterations ~ {exponent(fs['cg_iterations'])}, "
@@ -87,7 +100,7 @@ def single(out):
         return
     N = [r["bricks"] for r in rows]
     fig, ax = plt.subplots(figsize=(7, 5))
-    ax.loglog(N, [r["solve"] for r in rows], "o", color="C0", label="solve (CPU s, 1 thread)")
+    ax.loglog(N, [r["solve"] for r in rows], "o", color="C0", label=f"solve ({time_unit(rows)})")
     ax.loglog(N, [r["init"] for r in rows], "s", color="C2", label="initialisation (s)")
     xs = [N[0], N[-1]]
     for key, colour in (("solve", "C0"), ("init", "C2")):
@@ -118,11 +131,11 @@ def compare(out, dirs):
         sys.exit("plot_scaling --compare: no runs found")
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "scaling_methods.md"), "w") as f:
-        f.write("| relaxation | sizes (bricks) | solve CPU s | solve time | MC cycles | Newton / FIRE it. | CG it. |\n"
+        f.write("| relaxation | sizes (bricks) | solve s | solve time | MC cycles | Newton / FIRE it. | CG it. |\n"
                 "|---|---|---|---|---|---|---|\n")
         for d, rows in studies:
             fs = fits(rows)
-            f.write(f"| {name_of(d, rows)} | {', '.join(str(r['bricks']) for r in rows)} | "
+            f.write(f"| {name_of(d, rows)} ({time_unit(rows)}) | {', '.join(str(r['bricks']) for r in rows)} | "
                     f"{', '.join(f'{r['solve']:.1f}' for r in rows)} | {exponent(fs['solve'])} | "
                     f"{exponent(fs['cycles'])} | {exponent(fs['polish_iterations'])} | "
                     f"{exponent(fs['cg_iterations'])} |\n")
@@ -136,10 +149,10 @@ def compare(out, dirs):
     for k, (d, rows) in enumerate(studies):
         N = [r["bricks"] for r in rows]
         fs = fits(rows)
-        label = name_of(d, rows) + (f" (N^{fs['solve'][0]:.2f})" if fs["solve"] else "")
+        label = name_of(d, rows) + f" [{time_unit(rows)}]" + (f" (N^{fs['solve'][0]:.2f})" if fs["solve"] else "")
         ax.loglog(N, [r["solve"] for r in rows], "o-", color=f"C{k}", label=label)
     ax.set_xlabel("bricks")
-    ax.set_ylabel("solve CPU seconds (1 thread)")
+    ax.set_ylabel("solve seconds (CPU s on 1 thread; wall s where a study ran on more)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     ax.set_title("Time to the same final displacement against specimen size, by relaxation", fontsize=10)

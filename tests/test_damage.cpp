@@ -132,7 +132,7 @@ deck::Deck programme_deck() {
   d.load.programme = {0.01, 0.0, 0.016};
   d.load.final_displacement = 0.016;
   d.load.initial_step = d.load.min_step = d.load.max_step = 0.002;
-  d.load.adaptive = false, d.load.predictor = true;
+  d.load.adaptive = false, d.load.predictor = deck::Load::Predictor::automatic;
   d.mortar.damage = Damage::irreversible, d.mortar.damage_auto = false;
   d.solver.temperature = 1e-7;
   d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;

@@ -101,15 +101,15 @@ TEST_CASE("missing required values are errors", "[deck]") {
 }
 
 TEST_CASE("predictor: true, false, \"damped\" or \"secant\"", "[deck]") {
-  using Kind = Load::PredictorKind;
+  using Kind = Load::Predictor;
   auto with = [&](const std::string& v) {
-    return parse_deck_string(base + "predictor = " + v + "\n", "deck.toml").load;
+    return parse_deck_string(base + "predictor = " + v + "\n", "deck.toml").load.predictor;
   };
-  CHECK(parse_deck_string(base, "deck.toml").load.predictor == false);
-  CHECK((with("true").predictor && with("true").predictor_kind == Kind::automatic));
-  CHECK_FALSE(with("false").predictor);
-  CHECK((with("\"damped\"").predictor && with("\"damped\"").predictor_kind == Kind::damped));
-  CHECK((with("\"secant\"").predictor && with("\"secant\"").predictor_kind == Kind::secant));
+  CHECK(parse_deck_string(base, "deck.toml").load.predictor == Kind::none);
+  CHECK(with("true") == Kind::automatic);
+  CHECK(with("false") == Kind::none);
+  CHECK(with("\"damped\"") == Kind::damped);
+  CHECK(with("\"secant\"") == Kind::secant);
   CHECK_THAT(error_of(base + "predictor = \"linear\"\n"),
              StartsWith("deck.toml:15: load.predictor: unknown value \"linear\"; expected true, false, \"damped\" "
                         "(eq. 2.11) or \"secant\""));

@@ -358,7 +358,7 @@ TEST_CASE("relaxation = \"auto\" escapes the ruptured plateau where Newton stops
   auto d = newton_deck("auto");
   d.load.initial_step = d.load.min_step = d.load.max_step = 0.012;
   d.load.final_displacement = 0.012;
-  d.load.adaptive = false, d.load.predictor = false;
+  d.load.adaptive = false, d.load.predictor = deck::Load::Predictor::none;
   d.solver.burst_cycles = 500;
   auto st = make(d);
   mc::Solver newton(d, st.s, st.f);
@@ -449,9 +449,9 @@ TEST_CASE("predictor = true is the secant where Newton relaxes, eq. 2.11 where a
   // The cracking load path three ways: the automatic predictor (the deck's true) gives the
   // secant's bits under Newton; "damped" starts the loaded steps elsewhere (other bits), and all
   // three end every step below the residual.
-  auto run = [&](deck::Load::PredictorKind kind) {
+  auto run = [&](deck::Load::Predictor kind) {
     auto d = newton_deck();
-    d.load.predictor_kind = kind;
+    d.load.predictor = kind;
     auto st = make(d);
     mc::Solver solver(d, st.s, st.f);
     std::vector<mc::StepRecord> rows;
@@ -460,7 +460,7 @@ TEST_CASE("predictor = true is the secant where Newton relaxes, eq. 2.11 where a
     for (const auto& r : rows) CHECK(r.residual < 1e-9);
     return rows;
   };
-  using Kind = deck::Load::PredictorKind;
+  using Kind = deck::Load::Predictor;
   const auto automatic = run(Kind::automatic), secant = run(Kind::secant), damped = run(Kind::damped);
   REQUIRE(automatic.size() == secant.size());
   bool differs = damped.size() != secant.size();

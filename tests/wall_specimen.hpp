@@ -51,7 +51,7 @@ inline void notched_21x8(deck::Deck& d) {
 inline void cracking_path(deck::Deck& d) {
   d.load.final_displacement = 0.02;
   d.load.initial_step = 0.004, d.load.min_step = 0.002, d.load.max_step = 0.006;
-  d.load.adaptive = true, d.load.predictor = true;
+  d.load.adaptive = true, d.load.predictor = deck::Load::Predictor::automatic;
   d.solver.temperature = 1e-7;
   d.solver.step = 1e-4, d.solver.min_step = 1e-7, d.solver.max_step = 1e-3;
   d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-7, d.solver.max_rot_step = 1e-3;

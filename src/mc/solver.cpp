@@ -687,9 +687,9 @@ void SolverOn<Exec>::predict(double ratio) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::predictor");
   cache_valid_ = false;
   // the secant where Newton relaxes (unless the deck asks for eq. 2.11's), eq. 2.11's elsewhere
-  // (unless it asks for the secant): deck/deck.hpp Load::PredictorKind, mc/kernels.hpp
-  using Kind = deck::Load::PredictorKind;
-  const Kind kind = cfg_.load.predictor_kind;
+  // (unless it asks for the secant): deck/deck.hpp Load::Predictor, mc/kernels.hpp
+  using Kind = deck::Load::Predictor;
+  const Kind kind = cfg_.load.predictor;
   const bool newton = cfg_.relax == Relaxation::newton || cfg_.relax == Relaxation::automatic;
   if (kind == Kind::secant || (kind == Kind::automatic && newton)) {
     predict_poses(space_, SecantPredictor{}, m_, prev_pose_, ratio);
@@ -756,7 +756,7 @@ void SolverOn<Exec>::run(const std::function<void(const StepRecord&)>& on_step) 
     const int ruptured0 = snap_limit > 0 || cfg_.relax == Relaxation::automatic ? ruptured() : 0;
     step_ruptured0_ = ruptured0;
     for (;;) {
-      if (L.predictor && have_prev) predict(inc_now / inc_prev);
+      if (L.predictor != deck::Load::Predictor::none && have_prev) predict(inc_now / inc_prev);
       set_load(D0 + dir * inc_now);
       const bool may_revert = L.adaptive && inc_now > L.min_step * (1 + 1e-12) && c_u < S.max_cycles;
       cycle_limit_ = may_revert ? static_cast<long>(c_u) : 0;

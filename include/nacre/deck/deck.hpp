@@ -56,12 +56,13 @@ struct Load {
   double min_step = 0.02;      ///< MinLoadStepSize
   double max_step = 0.02;      ///< MaxLoadStepSize
   bool adaptive = false;       ///< forward control / backtracking of the increment (eq. 2.8, 2.9)
-  bool predictor = false;      ///< position predictor (eq. 2.10, 2.11)
-  /// Which predictor `predictor` turns on: eq. 2.11's (each brick's extrapolation damped by its
-  /// energy against its joints' energy at x1), the plain secant (the last increment's motion,
-  /// scaled), or (automatic) the secant where Newton relaxes (relaxation = "newton", "auto") and
-  /// eq. 2.11's elsewhere. Deck: predictor = true | false | "damped" | "secant".
-  enum class PredictorKind { automatic, damped, secant } predictor_kind = PredictorKind::automatic;
+  /// Position predictor (eq. 2.10): each load step starts from the last converged poses
+  /// extrapolated by the last increment's motion. `none`: no predictor; `damped`: eq. 2.11's
+  /// (each brick's extrapolation damped by its energy against its joints' energy at x1);
+  /// `secant`: every brick extrapolated alike; `automatic`: the secant where Newton relaxes
+  /// (relaxation = "newton", "auto") and eq. 2.11's elsewhere.
+  /// Deck: predictor = false | true (automatic) | "damped" | "secant".
+  enum class Predictor { none, automatic, damped, secant } predictor = Predictor::none;
   /// Snap-back control: a converged increment that ruptured more interfaces than this is undone
   /// and retried at half the increment (down to min_step); 0: off.
   int max_ruptures_per_step = 0;

@@ -52,11 +52,10 @@ void read_load(Section& top, Deck& d) {
   if (const toml::node* n = l.find("predictor", {})) {
     const std::string expected = "true, false, \"damped\" (eq. 2.11) or \"secant\"";
     if (auto b = n->value_exact<bool>()) {
-      L.predictor = *b;
+      L.predictor = *b ? Load::Predictor::automatic : Load::Predictor::none;
     } else if (auto s = n->value_exact<std::string>()) {
       if (*s != "damped" && *s != "secant") l.fail("predictor", "unknown value \"" + *s + "\"; expected " + expected);
-      L.predictor = true;
-      L.predictor_kind = *s == "damped" ? Load::PredictorKind::damped : Load::PredictorKind::secant;
+      L.predictor = *s == "damped" ? Load::Predictor::damped : Load::Predictor::secant;
     } else {
       l.fail("predictor", "wrong type (" + Section::type_name(*n) + "); expected " + expected);
     }
