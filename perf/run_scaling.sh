@@ -3,7 +3,9 @@
 # same final displacement against the number of bricks, with the studies' pinned settings
 # (perf/scaled_deck.sh ... study: adaptive increments, Monte Carlo unless
 # NACRE_SCALING_RELAXATION says otherwise), on the default deck's specimen scaled up. Each run on one
-# thread, timed in CPU seconds (robust on a shared machine); initialisation (specimen,
+# thread, timed in CPU seconds (robust on a shared machine; with perf/app_runs.sh's
+# NACRE_APP_THREADS > 1, in wall seconds, and the study should go to its own OUTDIR: plot_scaling
+# refuses one that mixes thread counts); initialisation (specimen,
 # interfaces, colouring) is the first log line's time and is reported separately.
 # perf/plot_scaling.py fits time = a N^p on the runs and draws the log-log chart.
 #
