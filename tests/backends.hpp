@@ -27,9 +27,9 @@ using OpenMPBackend = std::tuple<>;
 /// \brief Enabled host execution spaces.
 using HostBackends = decltype(std::tuple_cat(std::declval<SerialBackend>(), std::declval<OpenMPBackend>()));
 
-/// \brief The backends a run can choose (nacre::Backend: the spaces that reach the default memory
-/// space, where models and states live), default first: the host backends in a host build, the
-/// device alone in a CUDA build. Tests of solvers on models use this list.
+/// \brief The backends a run can choose (nacre::Backend), default first: the host backends in a
+/// host build, the device and the host backends in a CUDA build. A solver keeps its model in the
+/// chosen backend's memory; the solvers' and the generators' tests use this list.
 template <class V>
 struct TupleOf;
 template <class... T>

@@ -7,6 +7,7 @@
 #include "wall_specimen.hpp"
 
 #include <nacre/aes/aes128.hpp>
+#include <nacre/app/restart.hpp>
 #include <nacre/cohesive/segment.hpp>
 #include <nacre/core/backend.hpp>
 #include <nacre/rng/uniform_source.hpp>
@@ -16,6 +17,7 @@
 #include <nacre/mc/solver.hpp>
 
 #include <catch2/catch_approx.hpp>
+#include <catch2/matchers/catch_matchers_string.hpp>
 #include <catch2/catch_template_test_macros.hpp>
 #include <catch2/catch_test_macros.hpp>
 
@@ -29,6 +31,7 @@
 #include <vector>
 
 using namespace nacre;
+using Catch::Matchers::ContainsSubstring;
 
 // (external linkage: with CUDA and no host backend listed, nothing may instantiate the kernel
 // sequence below, and nvcc would warn of an unreferenced internal function)
@@ -70,7 +73,7 @@ Result run_kernels(const ExecutionSpace& space, int cycles) {
   std::vector<bool> free(s.size());
   for (std::size_t i = 0; i < s.size(); ++i) free[i] = s.drive[i] == geometry::Drive::free;
   const auto c = mc::colour_graph("tiles", s, adj, free, 1);
-  auto m = mc::build_model(ExecSpace{}, s, f, adj, c, d.mortar, 4);
+  auto m = mc::build_model(space, s, f, adj, c, d.mortar, 4);  // in the backend's own memory
   using MS = typename decltype(m)::memory_space;
   const loading::Pattern lp{d.load.tension, d.load.bending, d.geometry.width};
   SumWorkspace<MS> ws;
@@ -129,25 +132,22 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
 TEMPLATE_LIST_TEST_CASE("mc kernels leave the same bits on every host backend", "[mc][backends]",
                         test::HostBackends) {
   using Space = TestType;
-  if constexpr (!Kokkos::SpaceAccessibility<Space, MemSpace>::accessible) {
-    SKIP("the model's memory space is not accessible from " << Space::name());
-  } else {
-    std::cout << "nacre backends test: " << Space::name() << " (enabled host backends: "
-              << test::host_backend_names() << ")\n";
-    const int cycles = 30;
-    const Result ref = run_kernels(ExecSpace{}, cycles);
-    const Result got = run_kernels(Space{}, cycles);
-    // the run did something: trials were accepted and the energy moved
-    long acc = 0;
-    for (long a : got.accepted) acc += a;
-    CHECK(acc > 0);
-    REQUIRE(got.energies.size() == ref.energies.size());
-    CHECK(got.energies.back() != got.energies.front());
-    // energy bookkeeping inside the run: E(after cycle) - E(before) = sum of accepted changes
-    for (int c = 0; c < cycles; ++c) {
-      const double before = got.energies[2 * c], delta = got.energies[2 * c + 1], after = got.energies[2 * c + 2];
-      CHECK(after - before == Catch::Approx(delta).margin(1e-12 * std::abs(after)));
-    }
+  std::cout << "nacre backends test: " << Space::name() << " (enabled host backends: " << test::host_backend_names()
+            << ")\n";
+  const int cycles = 30;
+  const Result ref = run_kernels(Kokkos::DefaultHostExecutionSpace{}, cycles);  // (the default one in a host build)
+  const Result got = run_kernels(Space{}, cycles);
+  // the run did something: trials were accepted and the energy moved
+  long acc = 0;
+  for (long a : got.accepted) acc += a;
+  CHECK(acc > 0);
+  REQUIRE(got.energies.size() == ref.energies.size());
+  CHECK(got.energies.back() != got.energies.front());
+  // energy bookkeeping inside the run: E(after cycle) - E(before) = sum of accepted changes
+  for (int c = 0; c < cycles; ++c) {
+    const double before = got.energies[2 * c], delta = got.energies[2 * c + 1], after = got.energies[2 * c + 2];
+    CHECK(after - before == Catch::Approx(delta).margin(1e-12 * std::abs(after)));
+  }
     CHECK(same_bits(got.pose, ref.pose));
     CHECK(same_bits(got.energies, ref.energies));
     CHECK(same_bits(got.brick_energy, ref.brick_energy));
@@ -155,7 +155,6 @@ TEMPLATE_LIST_TEST_CASE("mc kernels leave the same bits on every host backend", 
     CHECK(same_bits(got.iface_state, ref.iface_state));
     CHECK(got.accepted == ref.accepted);
     CHECK(got.ruptured == ref.ruptured);
-  }
 }
 
 TEMPLATE_LIST_TEST_CASE("deterministic_sum: the same bits in any order and any split, exact where the sum is",
@@ -256,17 +255,19 @@ TEMPLATE_LIST_TEST_CASE("the cohesive law and the load pattern run inside kernel
 }
 
 TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every backend", "[rng][backends]", test::RunBackends) {
+  // in the backend's own memory (where a Monte Carlo solver built for it keeps its table)
+  using MS = MemOf<TestType>;
   const std::size_t n = 3001;
-  Kokkos::View<std::uint64_t*, MemSpace> id_view("nacre::test::ids", n);
-  const rng::StreamIds<> ids = id_view;
-  rng::UniformTable<> mine("nacre::test::u", n), ref("nacre::test::u_ref", n);
+  Kokkos::View<std::uint64_t*, MS> id_view("nacre::test::ids", n);
+  const rng::StreamIds<MS> ids = id_view;
+  rng::UniformTable<MS> mine("nacre::test::u", n), ref("nacre::test::u_ref", n);
   auto hid = Kokkos::create_mirror_view(id_view);
   for (std::size_t i = 0; i < n; ++i) hid(i) = 7919 * i + 3;  // any stream ids, not contiguous
   Kokkos::deep_copy(id_view, hid);
   for (const std::uint64_t draw : {0ull, 1ull, 123456789ull}) {
     rng::philox_fill(TestType{}, 42, draw, ids, mine);
     TestType{}.fence();
-    rng::PhiloxSource(42).fill(draw, ids, ref);  // the source the Monte Carlo sweep uses
+    rng::PhiloxSource(42).fill(Backend(TestType{}), draw, ids, ref);  // the source the Monte Carlo sweep uses
     Kokkos::fence();
     auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, mine);
     auto b = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, ref);
@@ -276,6 +277,28 @@ TEMPLATE_LIST_TEST_CASE("Philox uniforms are the same numbers on every backend",
       double r[4];
       rng::philox_uniforms(42, hid(i), draw, r);
       for (int k = 0; k < 4; ++k) REQUIRE((a(i, k) == r[k] && r[k] >= 0 && r[k] < 1));
+    }
+  }
+}
+
+TEST_CASE("a restart is bit-compatible between host backends, not between a device and the host", "[backends]") {
+  for (const auto& name : Backend::names()) {
+    const Backend b = Backend::parse(name);
+    INFO("backend " << name);
+    CHECK(b.bit_compatible(name));
+    CHECK(b.bit_compatible(b.kokkos_name()));  // case-insensitive
+    const bool host = b.reaches<Kokkos::HostSpace>();
+    CHECK(b.bit_compatible("serial") == (host || name == "serial"));
+    CHECK(b.bit_compatible("openmp") == (host || name == "openmp"));
+    CHECK(b.bit_compatible("cuda") == (name == "cuda"));
+    // the app's restart check: a checkpoint from the device is refused on the host, naming the way out
+    if (host) {
+      CHECK_NOTHROW(app::check_restart_backend("cp.h5", "serial", name));
+      CHECK_NOTHROW(app::check_restart_backend("cp.h5", "", name));  // (a checkpoint older than the record)
+      CHECK_THROWS_WITH(app::check_restart_backend("cp.h5", "cuda", name),
+                        ContainsSubstring("cp.h5: written on cuda") && ContainsSubstring("--backend cuda"));
+    } else {
+      CHECK_THROWS_WITH(app::check_restart_backend("cp.h5", "openmp", name), ContainsSubstring("--backend openmp"));
     }
   }
 }
@@ -302,6 +325,7 @@ TEST_CASE("AES-128 encrypts to the same bytes on every backend of the build", "[
   CHECK(std::memcmp(href.data(), c1_ct, 16) == 0);
   for (const auto& name : Backend::names()) {
     const Backend b = Backend::parse(name);
+    if (!b.reaches<MemSpace>()) continue;  // (a host backend of a CUDA build: the generators' test below)
     Kokkos::deep_copy(out, std::uint8_t(0));
     aes::aes128_ecb_encrypt(b, key, in, out);
     b.fence();
@@ -346,14 +370,26 @@ TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a che
     d.solver.rng = aes ? "aes-ctr" : "philox";  // in the sweep / a table the source fills
     d.solver.per_brick_steps = aes;             // and both step modes
     CAPTURE(d.solver.rng);
-    mc::Checkpoint cp;
-    const Path ref = run(Backend{}, nullptr, &cp);
-    REQUIRE(ref.rows.size() >= 3);
-    CHECK(ref.rows.back().ruptured > 0);  // the notch opens: the non-elastic branches ran
-    CHECK(cp.backend == Backend{}.name());
+    // the reference of each kind of arithmetic: the first backend on the host, the device (a
+    // CUDA build's host backends keep their model in host memory: bit for bit with each other,
+    // not with the device, Backend::bit_compatible)
+    std::vector<std::pair<std::string, std::pair<Path, mc::Checkpoint>>> refs;
     for (const auto& name : Backend::names()) {
       INFO("backend " << name);
-      const Path p = run(Backend::parse(name), nullptr, nullptr);
+      const Backend b = Backend::parse(name);
+      std::size_t k_ref = 0;
+      while (k_ref < refs.size() && !b.bit_compatible(refs[k_ref].first)) ++k_ref;
+      if (k_ref == refs.size()) {
+        mc::Checkpoint cp;
+        Path ref = run(b, nullptr, &cp);
+        REQUIRE(ref.rows.size() >= 3);
+        CHECK(ref.rows.back().ruptured > 0);  // the notch opens: the non-elastic branches ran
+        CHECK(cp.backend == name);
+        refs.push_back({name, {std::move(ref), cp}});
+      }
+      // (the reference's own backend again: the run is deterministic)
+      const auto& [ref, cp] = refs[k_ref].second;
+      const Path p = run(b, nullptr, nullptr);
       REQUIRE(p.rows.size() == ref.rows.size());
       for (std::size_t k = 0; k < p.rows.size(); ++k) {
         CHECK(p.rows[k].energy == ref.rows[k].energy);  // bit for bit
@@ -364,10 +400,13 @@ TEST_CASE("the Monte Carlo solver runs the same path on every backend, and a che
       CHECK(p.x == ref.x);
       CHECK(p.y == ref.y);
       CHECK(p.t == ref.t);
-      const Path resumed = run(Backend::parse(name), &cp, nullptr);
+      // a checkpoint written on the reference's backend continues here to the same end
+      const Path resumed = run(b, &cp, nullptr);
       REQUIRE(resumed.rows.size() == ref.rows.size() - 1);
       CHECK(resumed.rows.back().energy == ref.rows.back().energy);
       CHECK(resumed.t == ref.t);
     }
+    // every host backend of the build ran against one reference; a device (a CUDA build) adds one
+    CHECK(refs.size() == (Backend{}.reaches<Kokkos::HostSpace>() ? 1u : 2u));
   }
 }

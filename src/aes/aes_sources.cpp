@@ -21,15 +21,28 @@ Key128 key_from(std::uint64_t seed, std::uint64_t tag) {
   return k;
 }
 
-using Lane = detail::exec_lane_t<ExecSpace>;
+/// The masks of every enabled space, made from one key schedule.
+template <std::size_t... I>
+SpaceMasks make_space_masks(const RoundKeys& rk, std::index_sequence<I...>) {
+  return SpaceMasks{detail::make_masks(std::variant_alternative_t<I, AnySpace>(), rk)...};
+}
+SpaceMasks make_space_masks(const Key128& key) {
+  return make_space_masks(expand_key(key), std::make_index_sequence<std::variant_size_v<AnySpace>>{});
+}
+/// Space E's masks.
+template <class E>
+const auto& masks_for(const SpaceMasks& m) {
+  return std::get<space_index_v<E>>(m);
+}
 
 /// Plaintext of AES-CTR: block g = 2 i + h of the batch is (streams(i), 2 draw + h).
+template <class MS = MemSpace>
 struct CtrPlain {
-  rng::StreamIds<> streams;
+  rng::StreamIds<MS> streams;
   std::uint64_t draw;
-  template <class Member>
-  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb,
-                                         int chunk_blocks, Lane* buf) const {
+  template <class Member, class Lane>
+  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb, int chunk_blocks,
+                                         Lane* buf) const {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, chunk_blocks), [&](const int k) {
       std::uint64_t lo = 0, hi = 0;
       if (k < nb) {  // public: padding blocks are zero
@@ -43,12 +56,13 @@ struct CtrPlain {
 };
 
 /// Plaintext of MT+AES: M(m, d, h) ^ (q << 64) with m = s mod kMtStreams, q = s div kMtStreams.
+template <class MS = MemSpace>
 struct MtPlain {
-  rng::StreamIds<> streams;
-  Kokkos::View<const std::uint64_t*, MemSpace> table;
-  template <class Member>
-  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb,
-                                         int chunk_blocks, Lane* buf) const {
+  rng::StreamIds<MS> streams;
+  Kokkos::View<const std::uint64_t*, MS> table;
+  template <class Member, class Lane>
+  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb, int chunk_blocks,
+                                         Lane* buf) const {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, chunk_blocks), [&](const int k) {
       std::uint64_t lo = 0, hi = 0;
       if (k < nb) {
@@ -68,9 +82,8 @@ struct MtPlain {
 template <class Out>
 struct TableSink {
   Out out;
-  template <class Member>
-  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb,
-                                         const Lane* buf) const {
+  template <class Member, class Lane>
+  KOKKOS_INLINE_FUNCTION void operator()(const Member& team, std::size_t first, int nb, const Lane* buf) const {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, nb), [&](const int k) {
       const std::size_t g = first + std::size_t(k);
       std::uint64_t lo, hi;
@@ -90,7 +103,7 @@ struct TableSink {
 
 /// Identity "cipher" sink for fill_plain_bits: copy the plaintext as produced.
 struct PlainCopy {
-  MtPlain plain;
+  MtPlain<> plain;
   BitsTable<> out;
   KOKKOS_INLINE_FUNCTION void operator()(const std::size_t g) const {
     const std::uint64_t s = plain.streams(g / 2);
@@ -118,23 +131,29 @@ Key128 mt_aes_key(std::uint64_t seed) { return key_from(seed, kTagMt); }
 
 AesCtrSource::AesCtrSource(std::uint64_t seed) {
   Kokkos::Profiling::ScopedRegion region("nacre::aes::key_expansion");
-  masks_ = detail::make_masks(ExecSpace(), expand_key(aes_ctr_key(seed)));
+  masks_ = make_space_masks(aes_ctr_key(seed));
 }
 
-void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) {
+void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::aes_ctr");
-  check_extents("aes-ctr", streams.extent(0), u.extent(0));
-  backend.visit([&](const auto& space) {
-    detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_, 2 * streams.extent(0), CtrPlain{streams, draw},
-                          TableSink<rng::UniformTable<>>{u});
-  });
+  std::visit(
+      [&](const auto& b) {
+        using MS = typename std::decay_t<decltype(b)>::memory_space;
+        check_extents("aes-ctr", b.streams.extent(0), b.u.extent(0));
+        backend.visit_in<MS>([&](const auto& space) {
+          using E = std::decay_t<decltype(space)>;
+          detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
+                                CtrPlain<MS>{b.streams, draw}, TableSink<rng::UniformTable<MS>>{b.u});
+        });
+      },
+      batch);
 }
 
 void AesCtrSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::aes_ctr");
   check_extents("aes-ctr", streams.extent(0), bits.extent(0));
-  detail::run_bitsliced(ExecSpace(), "nacre::rng::aes_ctr_bits", masks_, 2 * streams.extent(0),
-                        CtrPlain{streams, draw}, TableSink<BitsTable<>>{bits});
+  detail::run_bitsliced(ExecSpace(), "nacre::rng::aes_ctr_bits", masks_for<ExecSpace>(masks_), 2 * streams.extent(0),
+                        CtrPlain<>{streams, draw}, TableSink<BitsTable<>>{bits});
 }
 
 std::unique_ptr<rng::UniformSource> make_aes_ctr_source(std::uint64_t seed) {
@@ -144,11 +163,10 @@ std::unique_ptr<rng::UniformSource> make_aes_ctr_source(std::uint64_t seed) {
 // ------------------------------------------------------------------------------------ MT + AES
 
 MtAesSource::MtAesSource(std::uint64_t seed)
-    : table_(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::rng::mt_aes_table"),
-             4 * kMtStreams),
-      table_host_("nacre::rng::mt_aes_table_host", 4 * kMtStreams) {
+    : table_host_("nacre::rng::mt_aes_table_host", 4 * kMtStreams),
+      table_(Kokkos::create_mirror_view(Kokkos::WithoutInitializing, MemSpace(), table_host_)) {
   Kokkos::Profiling::ScopedRegion region("nacre::aes::key_expansion");
-  masks_ = detail::make_masks(ExecSpace(), expand_key(mt_aes_key(seed)));
+  masks_ = make_space_masks(mt_aes_key(seed));
   mt_.reserve(kMtStreams);
   for (int m = 0; m < kMtStreams; ++m) {
     std::seed_seq seq{std::uint32_t(seed), std::uint32_t(seed >> 32), std::uint32_t(m),
@@ -183,31 +201,42 @@ void MtAesSource::advance_to(std::uint64_t draw) {
   last_draw_ = draw;
 }
 
-void MtAesSource::fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) {
+void MtAesSource::fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::mt_aes");
-  check_extents("mt-aes", streams.extent(0), u.extent(0));
-  advance_to(draw);  // host MT state, uploaded with a fence
-  backend.visit([&](const auto& space) {
-    detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_, 2 * streams.extent(0), MtPlain{streams, table_},
-                          TableSink<rng::UniformTable<>>{u});
-  });
+  std::visit(
+      [&](const auto& b) {
+        using MS = typename std::decay_t<decltype(b)>::memory_space;
+        static_assert(std::is_same_v<MS, MemSpace> || std::is_same_v<MS, Kokkos::HostSpace>);
+        check_extents("mt-aes", b.streams.extent(0), b.u.extent(0));
+        advance_to(draw);  // host MT state, uploaded with a fence
+        Kokkos::View<const std::uint64_t*, MS> table;
+        if constexpr (std::is_same_v<MS, MemSpace>)
+          table = table_;
+        else
+          table = table_host_;
+        backend.visit_in<MS>([&](const auto& space) {
+          using E = std::decay_t<decltype(space)>;
+          detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
+                                MtPlain<MS>{b.streams, table}, TableSink<rng::UniformTable<MS>>{b.u});
+        });
+      },
+      batch);
 }
 
 void MtAesSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::mt_aes");
   check_extents("mt-aes", streams.extent(0), bits.extent(0));
   advance_to(draw);
-  detail::run_bitsliced(ExecSpace(), "nacre::rng::mt_aes_bits", masks_, 2 * streams.extent(0),
-                        MtPlain{streams, table_}, TableSink<BitsTable<>>{bits});
+  detail::run_bitsliced(ExecSpace(), "nacre::rng::mt_aes_bits", masks_for<ExecSpace>(masks_), 2 * streams.extent(0),
+                        MtPlain<>{streams, table_}, TableSink<BitsTable<>>{bits});
 }
 
 void MtAesSource::fill_plain_bits(std::uint64_t draw, rng::StreamIds<> streams,
                                   BitsTable<> bits) {
   check_extents("mt-aes", streams.extent(0), bits.extent(0));
   advance_to(draw);
-  Kokkos::parallel_for("nacre::rng::mt_plain_bits",
-                       Kokkos::RangePolicy<ExecSpace>(0, 2 * streams.extent(0)),
-                       PlainCopy{MtPlain{streams, table_}, bits});
+  Kokkos::parallel_for("nacre::rng::mt_plain_bits", Kokkos::RangePolicy<ExecSpace>(0, 2 * streams.extent(0)),
+                       PlainCopy{MtPlain<>{streams, table_}, bits});
 }
 
 std::unique_ptr<rng::UniformSource> make_mt_aes_source(std::uint64_t seed) {

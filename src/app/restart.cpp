@@ -18,6 +18,14 @@ std::string physics_text(const deck::Deck& d) {
          std::string(Kokkos::DefaultExecutionSpace::name()) + "\"\n";
 }
 
+void check_restart_backend(const std::string& checkpoint_path, const std::string& written_on, const std::string& here) {
+  if (written_on.empty() || Backend::bit_compatible(here, written_on)) return;
+  throw io::CheckpointError(checkpoint_path + ": written on " + written_on + ", whose results are not bit for bit " +
+                            here + "'s (a device's arithmetic differs from the host's), so the run would not " +
+                            "continue as it began; restart it with --backend " + written_on + ", or start afresh on " +
+                            here);
+}
+
 std::string fingerprint(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
   for (const unsigned char c : text) h = (h ^ c) * 1099511628211ull;

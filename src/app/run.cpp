@@ -111,6 +111,7 @@ mc::Checkpoint validated_checkpoint(const deck::Deck& d, const RunOptions& opt, 
   } catch (const io::CheckpointError& e) {
     throw io::CheckpointError(restart + ": " + e.what());
   }
+  check_restart_backend(restart, cp.backend, opt.backend.empty() ? Backend::names().front() : opt.backend);
   const double cp_final = named.real("final_displacement");
   if (d.load.programme.empty() && cp.displacement > d.load.final_displacement * (1 + 1e-12))
     throw io::CheckpointError(restart + ": the checkpoint is at D = " + std::to_string(cp.displacement) +
@@ -499,6 +500,7 @@ int main(int argc, char* argv[]) {
         std::size_t n_free = 0;
         if (d.dynamics.enabled) {  // the same validation as the run's (dyn_fields.hpp, run_dynamics)
           const DynCheckpoint cp = validated_dyn_checkpoint(d, opt.restart, opt.extend);
+          check_restart_backend(opt.restart, cp.backend, opt.backend.empty() ? Backend::names().front() : opt.backend);
           std::cout << "nacre: " << opt.restart << ": checkpoint is valid for this deck (step " << cp.step
                     << ", t = " << cp.time << " s of " << d.dynamics.end_time << " s)\n";
           return 0;

@@ -7,6 +7,7 @@
 #include "dyn_fields.hpp"
 #include "progress.hpp"
 
+#include <nacre/app/restart.hpp>
 #include <nacre/app/signals.hpp>
 #include <nacre/core/format.hpp>
 #include <nacre/deck/limits.hpp>
@@ -281,6 +282,7 @@ private:
     const std::string& restart = opt_.restart;
     if (!restart.empty()) {
       cp_ = validated_dyn_checkpoint(d_, restart, opt_.extend);
+      check_restart_backend(restart, cp_.backend, session_.backend().name());
       p_.dt = cp_.dt;  // the run continues with the step it started with
       h_crit_ = cp_.critical_step, worst_balance_ = cp_.worst_balance;  // (its summary: the whole run's)
     }

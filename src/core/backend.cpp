@@ -60,6 +60,12 @@ Backend Backend::parse(const std::string& name) {
   return b;
 }
 
+bool Backend::bit_compatible(const std::string& a, const std::string& b) {
+  const auto host = [](const std::string& n) { return n == "serial" || n == "openmp" || n == "threads"; };
+  const std::string x = lower(a), y = lower(b);
+  return x == y || (host(x) && host(y));
+}
+
 std::string Backend::name() const { return lower(kokkos_name()); }
 const char* Backend::kokkos_name() const {
   return visit([](const auto& e) { return e.name(); });

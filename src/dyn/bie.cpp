@@ -16,8 +16,8 @@ namespace {
 constexpr double kMaxCondition = 1e12;
 
 /// J of eq. 4.7 for type t from host copies of the model's K and mass.
-template <class HostK, class HostM>
-std::vector<double> jacobian_of_type(const Model<>& m, const HostK& K, const HostM& M, int t) {
+template <class Mem, class HostK, class HostM>
+std::vector<double> jacobian_of_type(const Model<Mem>& m, const HostK& K, const HostM& M, int t) {
   const int nd = m.nd, n = 2 * nd;
   const double h = m.h;
   std::vector<double> J(static_cast<std::size_t>(n) * n, 0.0);  // row-major
@@ -39,16 +39,18 @@ std::vector<double> jacobian_of_type(const Model<>& m, const HostK& K, const Hos
 }
 }  // namespace
 
-std::vector<double> bie_jacobian_host(const Model<>& m, int t) {
+template <class Mem>
+std::vector<double> bie_jacobian_host(const Model<Mem>& m, int t) {
   // Whole views mirrored: a subview at fixed type is strided under the GPU's LayoutLeft, and
   // Kokkos cannot deep_copy a strided device view to the host (found on an H100).
   return jacobian_of_type(m, Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K),
                           Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass), t);
 }
 
-BieTables<> build_bie_tables(const Model<>& m) {
+template <class Mem>
+BieTables<Mem> build_bie_tables(const Model<Mem>& m) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::bie_tables");
-  BieTables<> b;
+  BieTables<Mem> b;
   const int nd = m.nd, n = 2 * nd, nt = m.n_types, ne = m.n_elem;
   b.n2 = n;
   b.block_lower = m.beta == 0.0;  // C = alpha M: the v-columns of J are diagonal (b I, c I)
@@ -59,9 +61,12 @@ BieTables<> build_bie_tables(const Model<>& m) {
     b.jq = bq / c, b.jr = 1.0 / c;
   }
   b.vfirst = m.beta != 0.0;
-  b.Jinv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt, n, n);
+  b.Jinv = typename BieTables<Mem>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jinv"), nt,
+                                            n, n);
   auto Jh = Kokkos::create_mirror_view(b.Jinv);
-  if (b.vfirst) b.Jv = BieTables<>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jv"), nt, nd, n);
+  if (b.vfirst)
+    b.Jv = typename BieTables<Mem>::TypeMat(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_Jv"), nt,
+                                            nd, n);
   auto Jvh = Kokkos::create_mirror_view(b.Jv);
   const auto Kh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);  // once for every type
   const auto Mh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.mass);
@@ -151,8 +156,9 @@ BieTables<> build_bie_tables(const Model<>& m) {
   b.type_offset.assign(nt + 1, 0);
   for (int e = 0; e < ne; ++e) ++b.type_offset[types(e) + 1];
   for (int t = 0; t < nt; ++t) b.type_offset[t + 1] += b.type_offset[t];
-  b.slot_of_elem = Kokkos::View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot"), ne);
-  b.slot_type = Kokkos::View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot_type"), std::max(ne, 1));
+  b.slot_of_elem = Kokkos::View<int*, Mem>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot"), ne);
+  b.slot_type = Kokkos::View<int*, Mem>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::bie_slot_type"),
+                                        std::max(ne, 1));
   auto so = Kokkos::create_mirror_view(b.slot_of_elem);
   auto st = Kokkos::create_mirror_view(b.slot_type);
   std::vector<int> fill(b.type_offset.begin(), b.type_offset.end() - 1);
@@ -165,8 +171,8 @@ BieTables<> build_bie_tables(const Model<>& m) {
     for (int s = b.type_offset[t]; s < b.type_offset[t + 1]; s += kTile)
       ts.push_back(s), tc.push_back(std::min(kTile, b.type_offset[t + 1] - s));
   const int ntile = static_cast<int>(ts.size());
-  b.tile_start = Kokkos::View<int*>("nacre::dyn::bie_tile_start", std::max(ntile, 1));
-  b.tile_count = Kokkos::View<int*>("nacre::dyn::bie_tile_count", std::max(ntile, 1));
+  b.tile_start = Kokkos::View<int*, Mem>("nacre::dyn::bie_tile_start", std::max(ntile, 1));
+  b.tile_count = Kokkos::View<int*, Mem>("nacre::dyn::bie_tile_count", std::max(ntile, 1));
   auto hts = Kokkos::create_mirror_view(b.tile_start);
   auto htc = Kokkos::create_mirror_view(b.tile_count);
   for (int w = 0; w < ntile; ++w) hts(w) = ts[w], htc(w) = tc[w];
@@ -175,10 +181,22 @@ BieTables<> build_bie_tables(const Model<>& m) {
   return b;
 }
 
-std::size_t bie_bytes(const BieTables<>& b) {
+template <class Mem>
+std::size_t bie_bytes(const BieTables<Mem>& b) {
   return (b.Jinv.span() + b.Jv.span()) * sizeof(double) +
          (b.slot_of_elem.span() + b.slot_type.span() + b.tile_start.span() + b.tile_count.span()) * sizeof(int);
 }
+
+// the default memory space, and the host's where it differs (a CUDA build's host backends)
+#define NACRE_DYN_BIE(M)                                                   \
+  template std::vector<double> bie_jacobian_host<M>(const Model<M>&, int); \
+  template BieTables<M> build_bie_tables<M>(const Model<M>&);              \
+  template std::size_t bie_bytes<M>(const BieTables<M>&);
+NACRE_DYN_BIE(MemSpace)
+#ifdef KOKKOS_ENABLE_CUDA
+NACRE_DYN_BIE(Kokkos::HostSpace)
+#endif
+#undef NACRE_DYN_BIE
 
 const char* bie_solve_name(BieSolve s) {
   switch (s) {

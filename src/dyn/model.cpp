@@ -67,8 +67,8 @@ namespace {
 /// (M + h/2 C)^-1 = ((1 + h alpha/2) M + h beta/2 K)^-1 per type into the host table A (zeros
 /// beyond a type's dofs) from host K, lumped M and node counts, at m.h, m.alpha, m.beta; and
 /// whether every one is diagonal (beta = 0). build_model and set_model_step share it.
-template <class KH, class MH, class NH, class AH>
-void step_tables(Model<>& m, const KH& K, const MH& M, const NH& N, const AH& A) {
+template <class Mem, class KH, class MH, class NH, class AH>
+void step_tables(Model<Mem>& m, const KH& K, const MH& M, const NH& N, const AH& A) {
   const double h = m.h;
   Kokkos::deep_copy(A, 0.0);
   for (int t = 0; t < m.n_types; ++t) {
@@ -101,13 +101,14 @@ struct Rec {
 /// What build_model's stages share: the inputs, the model and host map being filled, and the
 /// host tables one stage leaves for the next. Each stage is a function of its own (a stage
 /// reads only the members named at its top).
+template <class Mem>
 struct Build {
   const Params& p;
   const geometry::Specimen& s;
   const geometry::Interfaces& f;
   const deck::Mortar& mortar;
   HostMap& map;
-  Model<>& m;
+  Model<Mem>& m;
   bool ue;
   Material mat;
   int nb;
@@ -123,11 +124,12 @@ struct Build {
 
 /// Elements and their types: one bolted element per brick (BE, BIE) or a fan of triangles (UE),
 /// equal shapes sharing one type.
-void add_elements(Build& B) {
+template <class Mem>
+void add_elements(Build<Mem>& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const bool ue = B.ue;
   const Material& mat = B.mat;
   const int nb = B.nb;
@@ -200,11 +202,12 @@ void add_elements(Build& B) {
 /// one element no longer sets the step of the whole specimen, at a mass cost that is reported.
 /// lam_t: the largest eigenvalue of M_e^-1 K_e per type (lumped M), after the scaling: the
 /// element's part of the step bound (Model::klam)
-void scale_slivers(Build& B) {
+template <class Mem>
+void scale_slivers(Build<Mem>& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   const HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   auto& types = B.types;
   auto& lam_t = B.lam_t;
   lam_t.assign(types.size(), 0.0);
@@ -279,21 +282,22 @@ void scale_slivers(Build& B) {
 }
 
 /// Type tables on the device: K, (M + h/2 C)^-1, mass, Theta, node positions, the element step bound.
-void upload_types(Build& B) {
+template <class Mem>
+void upload_types(Build<Mem>& B) {
   const Params& p = B.p;
   HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const auto& types = B.types;
   const auto& lam_t = B.lam_t;
   const int nt = B.nt, nd = B.nd;
-  m.K = alloc<Model<>::TypeMat>("K", nt, nd, nd);
-  m.Ainv = alloc<Model<>::TypeMat>("Ainv", nt, nd, nd);
-  m.mass = alloc<Model<>::Dof>("mass", nt, nd);
-  m.klam = alloc<Kokkos::View<double*>>("klam", nt);
-  m.theta = alloc<Model<>::Dof>("theta", nt, nd);
-  m.node_x = alloc<Model<>::Dof>("node_x", nt, kMaxNodes);
-  m.node_y = alloc<Model<>::Dof>("node_y", nt, kMaxNodes);
-  m.type_nodes = alloc<Kokkos::View<int*>>("type_nodes", nt);
+  m.K = alloc<typename Model<Mem>::TypeMat>("K", nt, nd, nd);
+  m.Ainv = alloc<typename Model<Mem>::TypeMat>("Ainv", nt, nd, nd);
+  m.mass = alloc<typename Model<Mem>::Dof>("mass", nt, nd);
+  m.klam = alloc<Kokkos::View<double*, Mem>>("klam", nt);
+  m.theta = alloc<typename Model<Mem>::Dof>("theta", nt, nd);
+  m.node_x = alloc<typename Model<Mem>::Dof>("node_x", nt, kMaxNodes);
+  m.node_y = alloc<typename Model<Mem>::Dof>("node_y", nt, kMaxNodes);
+  m.type_nodes = alloc<Kokkos::View<int*, Mem>>("type_nodes", nt);
   {
     auto K = Kokkos::create_mirror_view(m.K);
     auto A = Kokkos::create_mirror_view(m.Ainv);
@@ -332,14 +336,15 @@ void upload_types(Build& B) {
 }
 
 /// Per element: type, drive, the driven elements' centroids, and the tiles of the tiled apply.
-void upload_elements(Build& B) {
+template <class Mem>
+void upload_elements(Build<Mem>& B) {
   const geometry::Specimen& s = B.s;
   const HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const int ne = B.ne;
-  m.type = alloc<Kokkos::View<int*>>("type", ne);
-  m.drive = alloc<Kokkos::View<std::int8_t*>>("drive", ne);
-  m.driven_index = alloc<Kokkos::View<int*>>("driven_index", ne);
+  m.type = alloc<Kokkos::View<int*, Mem>>("type", ne);
+  m.drive = alloc<Kokkos::View<std::int8_t*, Mem>>("drive", ne);
+  m.driven_index = alloc<Kokkos::View<int*, Mem>>("driven_index", ne);
   {
     auto T = Kokkos::create_mirror_view(m.type);
     auto D = Kokkos::create_mirror_view(m.drive);
@@ -354,8 +359,8 @@ void upload_elements(Build& B) {
       DI(e) = dv != 0 ? static_cast<int>(X.size()) : -1;
       if (dv != 0) X.push_back(s.cx[b]), Y.push_back(s.cy[b]);
     }
-    m.cx = alloc<Field<double>>("cx", std::max<std::size_t>(X.size(), 1));
-    m.cy = alloc<Field<double>>("cy", std::max<std::size_t>(Y.size(), 1));
+    m.cx = alloc<Field<double, Mem>>("cx", std::max<std::size_t>(X.size(), 1));
+    m.cy = alloc<Field<double, Mem>>("cy", std::max<std::size_t>(Y.size(), 1));
     auto HX = Kokkos::create_mirror_view(m.cx);
     auto HY = Kokkos::create_mirror_view(m.cy);
     for (std::size_t k = 0; k < X.size(); ++k) HX(k) = X[k], HY(k) = Y[k];
@@ -387,9 +392,9 @@ void upload_elements(Build& B) {
     }
     ts.push_back(static_cast<int>(te.size()));
     m.n_tiles = static_cast<int>(ts.size()) - 1, m.n_driven = static_cast<int>(dr.size());
-    m.tile_start = alloc<Kokkos::View<int*>>("tile_start", ts.size());
-    m.tile_elem = alloc<Kokkos::View<int*>>("tile_elem", std::max<std::size_t>(te.size(), 1));
-    m.driven = alloc<Kokkos::View<int*>>("driven", std::max<std::size_t>(dr.size(), 1));
+    m.tile_start = alloc<Kokkos::View<int*, Mem>>("tile_start", ts.size());
+    m.tile_elem = alloc<Kokkos::View<int*, Mem>>("tile_elem", std::max<std::size_t>(te.size(), 1));
+    m.driven = alloc<Kokkos::View<int*, Mem>>("driven", std::max<std::size_t>(dr.size(), 1));
     auto TS = Kokkos::create_mirror_view(m.tile_start);
     auto TE = Kokkos::create_mirror_view(m.tile_elem);
     auto DR = Kokkos::create_mirror_view(m.driven);
@@ -402,12 +407,13 @@ void upload_elements(Build& B) {
 
 /// Interfaces: each geometry segment located on one polygon edge of each brick (and UE's
 /// internal joints), in element order; the damage history where the deck asks for it.
-void locate_interfaces(Build& B) {
+template <class Mem>
+void locate_interfaces(Build<Mem>& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   const geometry::Interfaces& f = B.f;
   HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const bool ue = B.ue;
   const int nb = B.nb;
   const auto& poly_x = B.poly_x;
@@ -495,8 +501,9 @@ void locate_interfaces(Build& B) {
 
 /// Interface tables on the device: elements, shapes shared by bitwise-equal geometry; the
 /// gather counts per element.
-void upload_interfaces(Build& B) {
-  Model<>& m = B.m;
+template <class Mem>
+void upload_interfaces(Build<Mem>& B) {
+  Model<Mem>& m = B.m;
   const auto& rec = B.rec;
   const int ne = B.ne;
   const int ni = static_cast<int>(rec.size());
@@ -505,7 +512,7 @@ void upload_interfaces(Build& B) {
                              std::to_string(kMaxGatherIface - 1));
   m.n_iface = ni;
   m.ielem = alloc<decltype(m.ielem)>("ielem", ni);
-  m.ishape = alloc<Kokkos::View<int*>>("ishape", ni);
+  m.ishape = alloc<Kokkos::View<int*, Mem>>("ishape", ni);
   auto& goff = B.goff;
   goff.assign(ne + 1, 0);
   {
@@ -534,9 +541,9 @@ void upload_interfaces(Build& B) {
     const int ns = static_cast<int>(shape_rec.size());
     m.n_shapes = ns;
     m.ixi = alloc<decltype(m.ixi)>("ixi", std::max(ns, 1));
-    m.inx = alloc<Field<double>>("inx", std::max(ns, 1));
-    m.iny = alloc<Field<double>>("iny", std::max(ns, 1));
-    m.ilen = alloc<Field<double>>("ilen", std::max(ns, 1));
+    m.inx = alloc<Field<double, Mem>>("inx", std::max(ns, 1));
+    m.iny = alloc<Field<double, Mem>>("iny", std::max(ns, 1));
+    m.ilen = alloc<Field<double, Mem>>("ilen", std::max(ns, 1));
     m.ikind = alloc<decltype(m.ikind)>("ikind", std::max(ns, 1));
     auto XI = Kokkos::create_mirror_view(m.ixi);
     auto NX = Kokkos::create_mirror_view(m.inx);
@@ -562,11 +569,12 @@ void upload_interfaces(Build& B) {
 /// per free element, the largest eigenvalue of M_e^-1 K_e plus the Gershgorin row sum of the
 /// elastic interface stiffness k L t int N N^T ds (same in x and y) over the node's mass; the
 /// largest over the elements gives 2 / sqrt(it), a start for critical_step's bisection.
-void estimate_step(Build& B) {
+template <class Mem>
+void estimate_step(Build<Mem>& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   const HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const auto& types = B.types;
   const auto& lam_t = B.lam_t;
   const auto& rec = B.rec;
@@ -611,10 +619,11 @@ void estimate_step(Build& B) {
 /// bricks (increasing whole-model index) and the interfaces with an owned element (the whole
 /// model's order, bed/head first), renumbered; the maps back in HostMap; then the damage history
 /// for the model's bed/head interfaces. One process: every row, the identity maps.
-void restrict_to_part(Build& B) {
+template <class Mem>
+void restrict_to_part(Build<Mem>& B) {
   const geometry::Specimen& s = B.s;
   HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const par::Decomposition* part = B.part;
   const int ng = B.ne, nig = static_cast<int>(B.rec.size()), nmg = m.n_mortar;
   map.n_elem = ng, map.n_iface = nig, map.n_mortar = nmg;
@@ -663,7 +672,7 @@ void restrict_to_part(Build& B) {
   m.n_elem = B.ne;
   if (part) {  // the masks of the sums (empty in one process: every row counts)
     auto mask = [](const char* label, const std::vector<char>& x) {
-      Kokkos::View<std::uint8_t*> v(
+      Kokkos::View<std::uint8_t*, Mem> v(
           Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string("nacre::dyn::") + label),
           std::max<std::size_t>(x.size(), 1));
       auto h = Kokkos::create_mirror_view(v);
@@ -682,14 +691,15 @@ void restrict_to_part(Build& B) {
 }
 
 /// The gather list: entries of an element in increasing interface order (a fixed summation order).
-void build_gather(Build& B) {
-  Model<>& m = B.m;
+template <class Mem>
+void build_gather(Build<Mem>& B) {
+  Model<Mem>& m = B.m;
   const auto& rec = B.rec;
   auto& goff = B.goff;
   const int ne = B.ne, ni = m.n_iface;
   for (int e = 0; e < ne; ++e) goff[e + 1] += goff[e];
   {
-    m.goff = alloc<Kokkos::View<int*>>("goff", ne + 1);
+    m.goff = alloc<Kokkos::View<int*, Mem>>("goff", ne + 1);
     m.gent = alloc<decltype(m.gent)>("gent", std::max(goff[ne], 1));
     auto O = Kokkos::create_mirror_view(m.goff);
     auto G = Kokkos::create_mirror_view(m.gent);
@@ -704,15 +714,16 @@ void build_gather(Build& B) {
 }
 
 /// The prescribed force on the top edge (edges of the polygons lying on y = height).
-void top_force(Build& B) {
+template <class Mem>
+void top_force(Build<Mem>& B) {
   const Params& p = B.p;
   const geometry::Specimen& s = B.s;
   const HostMap& map = B.map;
-  Model<>& m = B.m;
+  Model<Mem>& m = B.m;
   const bool ue = B.ue;
   const int nb = B.nb, ne = B.ne, nd = B.nd;
   if (p.force_top != 0.0) {
-    m.fp = alloc<Model<>::Dof>("fp", ne, nd);
+    m.fp = alloc<typename Model<Mem>::Dof>("fp", ne, nd);
     auto F = Kokkos::create_mirror_view(m.fp);
     Kokkos::deep_copy(F, 0.0);
     std::vector<int> local(map.elem_brick.size(), -1);  // whole-model element -> model element
@@ -737,8 +748,9 @@ void top_force(Build& B) {
 }
 }  // namespace
 
-Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part) {
+template <class Mem>
+Model<Mem> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                       const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::build_model");
   if (!(p.dt > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
   if (!(p.youngs_modulus > 0) || !(p.density > 0) || !(p.thickness > 0) || !(p.poisson > -1 && p.poisson < 0.5))
@@ -746,7 +758,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   const bool ue = p.method == Method::ue;
   const Material mat{p.youngs_modulus, p.poisson, p.density, p.thickness};
   const int nb = static_cast<int>(s.size());
-  Model<> m;
+  Model<Mem> m;
   m.h = p.dt, m.alpha = p.alpha_d, m.beta = p.beta_d, m.thickness = p.thickness, m.eps_th = p.thermal_strain;
   m.pattern = loading::Pattern{p.tension, p.bending, s.width > 0 ? s.width : 1.0};
   m.top_prescribed = p.force_top == 0.0;
@@ -760,7 +772,7 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
       mortar.bed, mortar.head,
       cohesive::Law{p.internal_stiffness_factor * p.youngs_modulus / m.brick_height, 1e6, 1e6});
 
-  Build B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}, part, {}};
+  Build<Mem> B{p, s, f, mortar, map, m, ue, mat, nb, {}, {}, {}, 0, 0, 0, {}, {}, {}, part, {}};
   add_elements(B);
   scale_slivers(B);
   upload_types(B);
@@ -774,7 +786,8 @@ Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry
   return m;
 }
 
-void set_model_step(Model<>& m, double h) {
+template <class Mem>
+void set_model_step(Model<Mem>& m, double h) {
   if (!(h > 0)) throw std::invalid_argument("dyn: time step dt must be > 0");
   m.h = h;
   auto K = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, m.K);
@@ -785,7 +798,8 @@ void set_model_step(Model<>& m, double h) {
   Kokkos::deep_copy(m.Ainv, A);
 }
 
-std::size_t model_bytes(const Model<>& m) {
+template <class Mem>
+std::size_t model_bytes(const Model<Mem>& m) {
   std::size_t b = 0;
   auto add = [&](const auto& v) { b += v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
   add(m.K), add(m.Ainv), add(m.mass), add(m.klam), add(m.theta), add(m.node_x), add(m.node_y), add(m.type_nodes);
@@ -794,5 +808,17 @@ std::size_t model_bytes(const Model<>& m) {
   add(m.ielem), add(m.inode), add(m.ishape), add(m.ixi), add(m.inx), add(m.iny), add(m.ilen), add(m.ikind);
   return b;
 }
+
+// the default memory space, and the host's where it differs (a CUDA build's host backends)
+#define NACRE_DYN_MODEL(M)                                                                                \
+  template Model<M> build_model<M>(const Params&, const geometry::Specimen&, const geometry::Interfaces&, \
+                                   const deck::Mortar&, HostMap&, const par::Decomposition*);             \
+  template void set_model_step<M>(Model<M>&, double);                                                     \
+  template std::size_t model_bytes<M>(const Model<M>&);
+NACRE_DYN_MODEL(MemSpace)
+#ifdef KOKKOS_ENABLE_CUDA
+NACRE_DYN_MODEL(Kokkos::HostSpace)
+#endif
+#undef NACRE_DYN_MODEL
 
 }  // namespace nacre::dyn

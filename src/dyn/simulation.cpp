@@ -40,12 +40,13 @@ constexpr double kTinyEnergy = 1e-20;
 /// elements below this share of the energy are not watched for growth (rounding-level shares
 /// jump by any factor)
 constexpr double kGrowthFloor = 1e-6;
-using Mem = MemSpace;  ///< where the model and the state live, whatever the run's backend
 }  // namespace
 
-struct Simulation::Impl {
+template <class M>
+struct ImplIn {
+  using Mem = M;  ///< where the model and the state live: the run's backend's memory
   Params p;
-  Model<> m;
+  Model<Mem> m;
   HostMap map;
   std::size_t n_bricks = 0;
   // MPI runs (halo.hpp): the ranks, the exchange of the halo's u, the rows this rank owns of
@@ -56,13 +57,13 @@ struct Simulation::Impl {
   [[nodiscard]] par::Reduce reduce(long long owned) const { return par::Reduce{&comm, owned}; }
   [[nodiscard]] InterfaceOp<Mem> iop() const { return InterfaceOp<Mem>(m, u, iforce, halo.get()); }
   DofView<Mem> u, v, a, u0, v0, a0;
-  decltype(Model<>::hist) hist0;  ///< the damage history's roll-back copy (irreversible damage only)
+  decltype(Model<Mem>::hist) hist0;  ///< the damage history's roll-back copy (irreversible damage only)
   AccView<Mem> acc, acc0;
   DrivenAccView<Mem> dacc, dacc0;
   IforceView<Mem> iforce;
   SumWorkspace<Mem> ws;
   loading::Ramp ramp;
-  Backend backend;  ///< the instance the run's kernels go to (every launch: backend.visit)
+  Backend backend;  ///< the instance the run's kernels go to (every launch: backend.visit_in<Mem>)
   long step = 0;
   /// time of step n: t_base + (n - step_base) dt, exactly n dt while dt never changed (the
   /// adaptive mode moves the base to the step of each change)
@@ -78,7 +79,7 @@ struct Simulation::Impl {
   Kokkos::View<std::int16_t*, Mem> run;
   StepReport report;
   // BIE (bie.hpp): J^-1 per type, slot order, p_n / v_n and the residual block
-  BieTables<> bie;
+  BieTables<Mem> bie;
   DofView<Mem> pn, vn, R;
   int n_tiles = 0;
   /// BIE's step, chosen once (choose_bie_step) from the scheme and whether the shared J^-1 is
@@ -144,7 +145,7 @@ struct Simulation::Impl {
   template <class Scheme, bool Fused, class Jinv>
   static void bie_step_of(const Backend& b, const BieIntegrator<Mem>& it, const InterfaceOp<Mem>& op,
                           const BieSolveOp<Mem>& so, const BieStepPlan& pl) {
-    b.visit([&](const auto& s) { bie_step(s, Scheme{}, std::bool_constant<Fused>{}, Jinv{}, it, op, so, pl); });
+    b.visit_in<Mem>([&](const auto& s) { bie_step(s, Scheme{}, std::bool_constant<Fused>{}, Jinv{}, it, op, so, pl); });
   }
 
   /// BIE's shared_gemm over the element tiles, fused with the residual and the update (no R).
@@ -159,7 +160,7 @@ struct Simulation::Impl {
     impose(0.0);
     // BIE carries a_n into the step (eq. 4.6; the split step M^-1 F instead): start from the
     // initial state's.
-    backend.visit([&](const auto& space) {
+    backend.visit_in<Mem>([&](const auto& space) {
       if (is_bie())
         bie_accelerations(space, bie_integrator(), iop(), m.n_elem, m.n_iface, p.bie_scheme == BieScheme::split);
       // An impulsive start (rate without ramp) gives the driven bricks velocity at t = 0: that
@@ -180,7 +181,8 @@ struct Simulation::Impl {
   void read_bound(bool where) {
     const auto sb = step_bound_op();
     const auto [val, loc] = over_ranks(
-        backend.visit([&](const auto& space) { return dyn::step_bound(space, sb, m.n_elem, m.elem_owned); }), true);
+        backend.visit_in<Mem>([&](const auto& space) { return dyn::step_bound(space, sb, m.n_elem, m.elem_owned); }),
+        true);
     report.dt = p.dt;
     report.bound = val > 0 ? 2.0 / std::sqrt(val) : 0.0;
     report.element = val > 0 ? loc : -1;
@@ -192,7 +194,7 @@ struct Simulation::Impl {
       double pen = -std::numeric_limits<double>::infinity();
       const int e = local_element(report.element);
       if (e >= 0 && map.elem_owned[e]) {
-        backend.visit([&](const auto& space) { dyn::controlling_interface(space, sb, e, i, pen); });
+        backend.visit_in<Mem>([&](const auto& space) { dyn::controlling_interface(space, sb, e, i, pen); });
         i = i >= 0 && i < m.n_mortar ? map.iface_geom[map.iface_global[i]] : -1;
       }
       report.iface = static_cast<int>(comm.max(e >= 0 && map.elem_owned[e] ? i : -2));
@@ -230,14 +232,14 @@ struct Simulation::Impl {
 
   /// One step of the run's integrator (u, v, a from t_n to t_{n+1}; `it` carries the opening),
   /// chosen once (choose_step): velocity Verlet per element or tiled, or BIE's chosen step.
-  using StepFn = void (*)(const Impl&, const Integrator<Mem>&);
+  using StepFn = void (*)(const ImplIn&, const Integrator<Mem>&);
   StepFn step_fn = nullptr;
   template <bool Tiled, class Ainv>
-  static void verlet_of(const Impl& I, const Integrator<Mem>& it) {
-    I.backend.visit(
+  static void verlet_of(const ImplIn& I, const Integrator<Mem>& it) {
+    I.backend.visit_in<Mem>(
         [&](const auto& s) { verlet_step(s, ElementTiles<Tiled>{}, Ainv{}, it, I.iop(), I.m.n_elem, I.m.n_iface); });
   }
-  static void bie_of(const Impl& I, const Integrator<Mem>& it) {
+  static void bie_of(const ImplIn& I, const Integrator<Mem>& it) {
     auto bi = I.bie_integrator();
     bi.ex = it;
     I.bie_step_fn(I.backend, bi, I.iop(), I.bie_solver(), I.bie_plan);
@@ -257,7 +259,7 @@ struct Simulation::Impl {
     auto it = integrator();
     const loading::Opening o = ramp(t);
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
-    backend.visit([&](const auto& space) {
+    backend.visit_in<Mem>([&](const auto& space) {
       impose_drive(space, it, m.n_elem);
       space.fence();
     });
@@ -269,7 +271,7 @@ struct Simulation::Impl {
     it.D = o.D, it.Dd = o.rate, it.Ddd = o.accel;
     it.D_prev = ramp.displacement(now(step));
     step_fn(*this, it);
-    backend.visit([&](const auto& space) {
+    backend.visit_in<Mem>([&](const auto& space) {
       // the iterated BIE step with the kept force moves u after its last force pass: the halo's u
       // from its owners again (every later reading of an interface needs both ends); Verlet's
       // and the split step's force pass left it current
@@ -295,14 +297,14 @@ struct Simulation::Impl {
   }
 
   void save_copy() {
-    backend.visit([&](const auto& space) {
+    backend.visit_in<Mem>([&](const auto& space) {
       Kokkos::deep_copy(space, u0, u), Kokkos::deep_copy(space, v0, v), Kokkos::deep_copy(space, a0, a);
       Kokkos::deep_copy(space, acc0, acc), Kokkos::deep_copy(space, dacc0, dacc);
       if (m.hist.data()) Kokkos::deep_copy(space, hist0, m.hist);
     });
   }
   void load_copy() {
-    backend.visit([&](const auto& space) {
+    backend.visit_in<Mem>([&](const auto& space) {
       Kokkos::deep_copy(space, u, u0), Kokkos::deep_copy(space, v, v0), Kokkos::deep_copy(space, a, a0);
       Kokkos::deep_copy(space, acc, acc0), Kokkos::deep_copy(space, dacc, dacc0);
       if (m.hist.data()) Kokkos::deep_copy(space, m.hist, hist0);
@@ -312,27 +314,27 @@ struct Simulation::Impl {
   // The books: every sum over this rank's owned rows, combined over the ranks (par::Reduce):
   // the bits of the one-process sum.
   double sum_acc(AccCol col) {
-    return backend.visit(
+    return backend.visit_in<Mem>(
         [&](const auto& space) { return column_sum(space, ws, acc, col, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double sum_driven(DrivenCol col) {
-    return backend.visit([&](const auto& space) {
+    return backend.visit_in<Mem>([&](const auto& space) {
       return column_sum(space, ws, dacc, col, m.n_driven, m.driven_owned, reduce(own_driven));
     });
   }
   double kinetic(bool free_only, bool poison) {
     const KineticEnergy<Mem> k{m.type, m.drive, m.mass, u, v, a, m.nd, free_only, poison};
-    return backend.visit(
+    return backend.visit_in<Mem>(
         [&](const auto& space) { return element_sum(space, ws, k, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double strain() {
     const StrainEnergy<Mem> se{m.type, m.K, u, m.nd};
-    return backend.visit(
+    return backend.visit_in<Mem>(
         [&](const auto& space) { return element_sum(space, ws, se, m.n_elem, m.elem_owned, reduce(own_elem)); });
   }
   double cohesive() {
     const InterfaceOp<Mem> op = iop();
-    return backend.visit(
+    return backend.visit_in<Mem>(
         [&](const auto& space) { return cohesive_energy(space, ws, op, m.n_iface, m.iface_owned, reduce(own_iface)); });
   }
 
@@ -399,7 +401,8 @@ struct Simulation::Impl {
                                  KineticEnergy<Mem>{m.type, m.drive, m.mass, u, v, a, m.nd, false, false},
                                  share, run, 1.0 / (e.strain + e.kinetic), p.growth_factor, kGrowthFloor};
       const auto [runs, where] = over_ranks(
-          backend.visit([&](const auto& space) { return element_growth(space, g, m.n_elem, m.elem_owned); }), false);
+          backend.visit_in<Mem>([&](const auto& space) { return element_growth(space, g, m.n_elem, m.elem_owned); }),
+          false);
       const int longest = static_cast<int>(runs);
       report.growth_longest = std::max(report.growth_longest, longest);
       if (longest >= p.growth_checks) {
@@ -442,50 +445,70 @@ struct Simulation::Impl {
   }
 };
 
+template <class M>
+using ImplPtr = std::unique_ptr<ImplIn<M>>;
+/// The run's ImplIn, in its backend's memory space (one alternative in a host build).
+struct Simulation::Impl {
+  PerMemorySpace<ImplPtr> in;
+};
+
+/// f(the run's ImplIn): every member below goes through here.
+template <class F>
+decltype(auto) Simulation::on(F&& f) const {
+  return std::visit([&](const auto& p) -> decltype(auto) { return f(*p); }, impl_->in);
+}
+
 Simulation::Simulation(const Backend& backend, const Params& p, const geometry::Specimen& s,
                        const geometry::Interfaces& f, const deck::Mortar& mortar, const par::Comm& comm)
     : impl_(std::make_unique<Impl>()) {
   Kokkos::Profiling::ScopedRegion region("nacre::dyn::setup");
-  auto& I = *impl_;
-  I.p = p;
-  I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
-                         p.ramp_time, p.final_displacement};
-  if (p.programme.size() > static_cast<std::size_t>(loading::kMaxTargets))
-    throw std::invalid_argument("dyn: a load programme has at most " + std::to_string(loading::kMaxTargets) +
-                                " targets");
-  I.ramp.n_targets = static_cast<int>(p.programme.size());
-  for (std::size_t k = 0; k < p.programme.size(); ++k) I.ramp.target[k] = p.programme[k];
-  I.n_bricks = s.size();
-  I.comm = comm;
-  std::unique_ptr<par::Decomposition> part;
-  if (comm.size() > 1)  // this rank's bricks and halo (the Monte Carlo solver's decomposition, one brick a work item)
-    part = std::make_unique<par::Decomposition>(
-        par::decompose(comm.rank(), comm.size(), s, f, geometry::build_adjacency(s.size(), f), {}));
-  I.m = build_model(p, s, f, mortar, I.map, part.get());
-  for (char c : I.map.elem_owned) I.own_elem += c;
-  for (char c : I.map.iface_owned) I.own_iface += c;
-  for (char c : I.map.driven_owned) I.own_driven += c;
-  if (I.is_bie()) {
-    if (!bie_solve_available(p.bie_solve))
-      throw std::invalid_argument(std::string("dyn: bie_solve = \"") + bie_solve_name(p.bie_solve) +
-                                  "\" needs Kokkos Kernels, which this build does not have");
-    if (p.bie_solve == BieSolve::reordered && !valid_bie_block(p.bie_block))
-      throw std::invalid_argument(std::string("dyn: bie_block must be ") + kBieBlockExpected + " (got " +
-                                  std::to_string(p.bie_block) + ")");
-    if (p.bie_iterations < 1) throw std::invalid_argument("dyn: bie_iterations must be >= 1");
-    I.bie = build_bie_tables(I.m);
-    I.n_tiles = static_cast<int>(I.bie.tile_start.extent(0));
-    if (I.bie_fused()) {  // the slot order serves only the unfused variants: keep nothing of it
-      I.bie.slot_of_elem = {}, I.bie.slot_type = {}, I.bie.tile_start = {}, I.bie.tile_count = {};
-      I.n_tiles = 0;
+  // the model and the state in the memory of the backend the run's kernels go to
+  backend.visit([&](const auto& space) {
+    using M = MemOf<std::decay_t<decltype(space)>>;
+    impl_->in = std::make_unique<ImplIn<M>>();
+  });
+  on([&](auto& I) {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    I.p = p;
+    I.ramp = loading::Ramp{p.ramp == Ramp::linear ? loading::Profile::linear : loading::Profile::smooth, p.rate,
+                           p.ramp_time, p.final_displacement};
+    if (p.programme.size() > static_cast<std::size_t>(loading::kMaxTargets))
+      throw std::invalid_argument("dyn: a load programme has at most " + std::to_string(loading::kMaxTargets) +
+                                  " targets");
+    I.ramp.n_targets = static_cast<int>(p.programme.size());
+    for (std::size_t k = 0; k < p.programme.size(); ++k) I.ramp.target[k] = p.programme[k];
+    I.n_bricks = s.size();
+    I.comm = comm;
+    std::unique_ptr<par::Decomposition> part;
+    if (comm.size() > 1)  // this rank's bricks and halo (the Monte Carlo solver's decomposition, one brick a work item)
+      part = std::make_unique<par::Decomposition>(
+          par::decompose(comm.rank(), comm.size(), s, f, geometry::build_adjacency(s.size(), f), {}));
+    I.m = build_model<Mem>(p, s, f, mortar, I.map, part.get());
+    for (char c : I.map.elem_owned) I.own_elem += c;
+    for (char c : I.map.iface_owned) I.own_iface += c;
+    for (char c : I.map.driven_owned) I.own_driven += c;
+    if (I.is_bie()) {
+      if (!bie_solve_available(p.bie_solve))
+        throw std::invalid_argument(std::string("dyn: bie_solve = \"") + bie_solve_name(p.bie_solve) +
+                                    "\" needs Kokkos Kernels, which this build does not have");
+      if (p.bie_solve == BieSolve::reordered && !valid_bie_block(p.bie_block))
+        throw std::invalid_argument(std::string("dyn: bie_block must be ") + kBieBlockExpected + " (got " +
+                                    std::to_string(p.bie_block) + ")");
+      if (p.bie_iterations < 1) throw std::invalid_argument("dyn: bie_iterations must be >= 1");
+      I.bie = build_bie_tables(I.m);
+      I.n_tiles = static_cast<int>(I.bie.tile_start.extent(0));
+      if (I.bie_fused()) {  // the slot order serves only the unfused variants: keep nothing of it
+        I.bie.slot_of_elem = {}, I.bie.slot_type = {}, I.bie.tile_start = {}, I.bie.tile_count = {};
+        I.n_tiles = 0;
+      }
     }
-  }
-  I.choose_step();
-  I.dt0 = p.dt;
-  I.allocate();
-  if (part) I.halo = std::make_unique<ElementHalo<Mem>>(comm, *part, I.map, I.u);
-  I.backend = backend;
-  I.start();
+    I.choose_step();
+    I.dt0 = p.dt;
+    I.allocate();
+    if (part) I.halo = std::make_unique<ElementHalo<Mem>>(comm, *part, I.map, I.u);
+    I.backend = backend;
+    I.start();
+  });
 }
 
 Simulation::~Simulation() = default;
@@ -493,90 +516,120 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 bool Simulation::advance(const Kokkos::DefaultExecutionSpace& space, long n) {
-  impl_->backend = Backend(space);
+  on([&](auto& I) {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    if (!Backend(space).reaches<Mem>())
+      throw std::logic_error("dyn::Simulation::advance: the default space cannot reach this run's memory");
+    I.backend = Backend(space);
+  });
   return advance(n);
 }
 
 bool Simulation::advance(long n) {
-  Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
-  auto& I = *impl_;
-  const Backend& backend = I.backend;
-  long done = 0;
-  while (done < n) {
-    const long chunk = std::min<long>(kCheckEvery, n - done);
-    I.save_copy();
-    const long start = I.step;
-    for (long k = 0; k < chunk; ++k) I.step_once();
-    backend.fence();
-    if (const auto h = I.healthy(true); h != Impl::Health::ok) {
-      if (h == Impl::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
-        I.load_copy();                         // back to the chunk's start, which passed every check
-        I.step = start;
-        backend.fence();
-        return false;
-      }
-      // replay the chunk step by step to stop at the last good step
-      I.load_copy();
-      I.step = start;
-      for (long k = 0; k < chunk; ++k) {
-        I.save_copy();
-        I.step_once();
-        backend.fence();
-        if (I.healthy(false) != Impl::Health::ok) {
-          I.load_copy();
-          --I.step;
+  return on([&](auto& I) -> bool {
+    Kokkos::Profiling::ScopedRegion region("nacre::dyn::advance");
+    const Backend& backend = I.backend;
+    long done = 0;
+    while (done < n) {
+      const long chunk = std::min<long>(kCheckEvery, n - done);
+      I.save_copy();
+      const long start = I.step;
+      for (long k = 0; k < chunk; ++k) I.step_once();
+      backend.fence();
+      if (const auto h = I.healthy(true); h != std::decay_t<decltype(I)>::Health::ok) {
+        if (h == std::decay_t<decltype(I)>::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
+          I.load_copy();  // back to the chunk's start, which passed every check
+          I.step = start;
           backend.fence();
           return false;
         }
+        // replay the chunk step by step to stop at the last good step
+        I.load_copy();
+        I.step = start;
+        for (long k = 0; k < chunk; ++k) {
+          I.save_copy();
+          I.step_once();
+          backend.fence();
+          if (I.healthy(false) != std::decay_t<decltype(I)>::Health::ok) {
+            I.load_copy();
+            --I.step;
+            backend.fence();
+            return false;
+          }
+        }
+        // (the replay found no failure: impossible for a deterministic run; report the chunk)
+        I.why = "blow-up at the end of a step chunk that the replay did not reproduce";
+        return false;
       }
-      // (the replay found no failure: impossible for a deterministic run; report the chunk)
-      I.why = "blow-up at the end of a step chunk that the replay did not reproduce";
-      return false;
+      I.adapt();
+      done += chunk;
     }
-    I.adapt();
-    done += chunk;
-  }
-  return true;
+    return true;
+  });
 }
 
-const std::string& Simulation::why() const { return impl_->why; }
-double Simulation::time() const { return impl_->now(impl_->step); }
-double Simulation::dt() const { return impl_->p.dt; }
-const StepReport& Simulation::step_report() const { return impl_->report; }
+const std::string& Simulation::why() const {
+  return on([&](auto& I) -> const std::string& { return I.why; });
+}
+double Simulation::time() const {
+  return on([&](auto& I) -> double { return I.now(I.step); });
+}
+double Simulation::dt() const {
+  return on([&](auto& I) -> double { return I.p.dt; });
+}
+const StepReport& Simulation::step_report() const {
+  return on([&](auto& I) -> const StepReport& { return I.report; });
+}
 void Simulation::set_initial_dt(double h) {
-  auto& I = *impl_;
-  if (I.step != 0) throw std::logic_error("dyn::Simulation::set_initial_dt: the run has started");
-  I.change_dt(h);
-  I.dt0 = h;
-  I.report.dt_changes = 0;
-  I.start();  // a_0 and the start's books at the new step
+  return on([&](auto& I) -> void {
+    if (I.step != 0) throw std::logic_error("dyn::Simulation::set_initial_dt: the run has started");
+    I.change_dt(h);
+    I.dt0 = h;
+    I.report.dt_changes = 0;
+    I.start();  // a_0 and the start's books at the new step
+  });
 }
 StepReport Simulation::step_check() {
-  impl_->read_bound(true);
-  return impl_->report;
+  return on([&](auto& I) -> StepReport {
+    I.read_bound(true);
+    return I.report;
+  });
 }
-long Simulation::steps() const { return impl_->step; }
-double Simulation::displacement() const { return impl_->ramp.displacement(time()); }
+long Simulation::steps() const {
+  return on([&](auto& I) -> long { return I.step; });
+}
+double Simulation::displacement() const {
+  return on([&](auto& I) -> double { return I.ramp.displacement(time()); });
+}
 
 Energies Simulation::energies() const {
-  Kokkos::Profiling::ScopedRegion region("nacre::dyn::energies");
-  return impl_->energies();
+  return on([&](auto& I) -> Energies {
+    Kokkos::Profiling::ScopedRegion region("nacre::dyn::energies");
+    return I.energies();
+  });
 }
 
-double Simulation::reaction() const { return impl_->sum_driven(kReact); }
+double Simulation::reaction() const {
+  return on([&](auto& I) -> double { return I.sum_driven(kReact); });
+}
 
 int Simulation::ruptured() const {
-  auto& I = *impl_;
-  const InterfaceOp<Mem> op = I.iop();
-  const int mine =
-      I.backend.visit([&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar, I.m.iface_owned); });
-  return static_cast<int>(I.comm.sum(static_cast<long long>(mine)));
+  return on([&](auto& I) -> int {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    const InterfaceOp<Mem> op = I.iop();
+    const int mine = I.backend.template visit_in<Mem>(
+        [&](const auto& space) { return count_ruptured(space, op, I.m.n_mortar, I.m.iface_owned); });
+    return static_cast<int>(I.comm.sum(static_cast<long long>(mine)));
+  });
 }
 
 double Simulation::max_penetration() const {
-  auto& I = *impl_;
-  const InterfaceOp<Mem> op = I.iop();
-  return I.comm.max(I.backend.visit([&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); }));
+  return on([&](auto& I) -> double {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    const InterfaceOp<Mem> op = I.iop();
+    return I.comm.max(I.backend.template visit_in<Mem>(
+        [&](const auto& space) { return dyn::max_penetration(space, op, I.m.n_mortar); }));
+  });
 }
 
 namespace {
@@ -648,133 +701,137 @@ void scatter_rows(const par::Comm& comm, const V& d, const std::vector<double>& 
 }  // namespace
 
 Snapshot Simulation::snapshot() const {
-  auto& I = *impl_;
-  Kokkos::Profiling::ScopedRegion region("nacre::dyn::snapshot");
-  Snapshot s;
-  s.time = time();
-  s.displacement = displacement();
-  const auto& M = I.map;
-  const auto ne = static_cast<std::size_t>(M.n_elem);  // the whole model's, on rank 0
-  const std::vector<double> gu = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
-  const std::vector<double> gv = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
-  std::vector<double> damage;
-  std::vector<int> state;
-  interface_damage(damage, state);  // (every rank: a gather)
-  if (I.comm.rank() != 0) return s;
-  auto hu = [&](std::size_t e, int j) { return gu[e + ne * static_cast<std::size_t>(j)]; };
-  auto hv = [&](std::size_t e, int j) { return gv[e + ne * static_cast<std::size_t>(j)]; };
-  std::vector<int> node0(ne + 1, 0);
-  for (std::size_t e = 0; e < ne; ++e) node0[e + 1] = node0[e] + M.type_nodes[M.elem_type[e]];
-  const int nn = node0[ne];
-  s.node_x.resize(nn), s.node_y.resize(nn), s.ux.resize(nn), s.uy.resize(nn), s.vx.resize(nn), s.vy.resize(nn);
-  for (std::size_t e = 0; e < ne; ++e) {
-    const int t = M.elem_type[e], b = M.elem_brick[e];
-    for (int j = 0; j < M.type_nodes[t]; ++j) {
-      const int k = node0[e] + j;
-      s.node_x[k] = M.cx[b] + M.type_x[t * kMaxNodes + j];
-      s.node_y[k] = M.cy[b] + M.type_y[t * kMaxNodes + j];
-      s.ux[k] = hu(e, 2 * j), s.uy[k] = hu(e, 2 * j + 1), s.vx[k] = hv(e, 2 * j), s.vy[k] = hv(e, 2 * j + 1);
+  return on([&](auto& I) -> Snapshot {
+    Kokkos::Profiling::ScopedRegion region("nacre::dyn::snapshot");
+    Snapshot s;
+    s.time = time();
+    s.displacement = displacement();
+    const auto& M = I.map;
+    const auto ne = static_cast<std::size_t>(M.n_elem);  // the whole model's, on rank 0
+    const std::vector<double> gu = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
+    const std::vector<double> gv = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
+    std::vector<double> damage;
+    std::vector<int> state;
+    interface_damage(damage, state);  // (every rank: a gather)
+    if (I.comm.rank() != 0) return s;
+    auto hu = [&](std::size_t e, int j) { return gu[e + ne * static_cast<std::size_t>(j)]; };
+    auto hv = [&](std::size_t e, int j) { return gv[e + ne * static_cast<std::size_t>(j)]; };
+    std::vector<int> node0(ne + 1, 0);
+    for (std::size_t e = 0; e < ne; ++e) node0[e + 1] = node0[e] + M.type_nodes[M.elem_type[e]];
+    const int nn = node0[ne];
+    s.node_x.resize(nn), s.node_y.resize(nn), s.ux.resize(nn), s.uy.resize(nn), s.vx.resize(nn), s.vy.resize(nn);
+    for (std::size_t e = 0; e < ne; ++e) {
+      const int t = M.elem_type[e], b = M.elem_brick[e];
+      for (int j = 0; j < M.type_nodes[t]; ++j) {
+        const int k = node0[e] + j;
+        s.node_x[k] = M.cx[b] + M.type_x[t * kMaxNodes + j];
+        s.node_y[k] = M.cy[b] + M.type_y[t * kMaxNodes + j];
+        s.ux[k] = hu(e, 2 * j), s.uy[k] = hu(e, 2 * j + 1), s.vx[k] = hv(e, 2 * j), s.vy[k] = hv(e, 2 * j + 1);
+      }
     }
-  }
-  const std::size_t ntri = M.tri_elem.size();
-  s.tri.resize(3 * ntri), s.tri_brick.resize(ntri);
-  s.tri_sxx.resize(ntri), s.tri_syy.resize(ntri), s.tri_sxy.resize(ntri);
-  s.brick_syy.assign(I.n_bricks, 0.0);
-  std::vector<double> barea(I.n_bricks, 0.0);
-  for (std::size_t k = 0; k < ntri; ++k) {
-    const int e = M.tri_elem[k], t = M.elem_type[e], b = M.tri_brick[k];
-    double x[3], y[3], ue[6], sig[3], area;
-    for (int c = 0; c < 3; ++c) {
-      const int j = M.tri_local[k][c];
-      s.tri[3 * k + c] = node0[e] + j;
-      x[c] = M.type_x[t * kMaxNodes + j], y[c] = M.type_y[t * kMaxNodes + j];
-      ue[2 * c] = hu(e, 2 * j), ue[2 * c + 1] = hu(e, 2 * j + 1);
+    const std::size_t ntri = M.tri_elem.size();
+    s.tri.resize(3 * ntri), s.tri_brick.resize(ntri);
+    s.tri_sxx.resize(ntri), s.tri_syy.resize(ntri), s.tri_sxy.resize(ntri);
+    s.brick_syy.assign(I.n_bricks, 0.0);
+    std::vector<double> barea(I.n_bricks, 0.0);
+    for (std::size_t k = 0; k < ntri; ++k) {
+      const int e = M.tri_elem[k], t = M.elem_type[e], b = M.tri_brick[k];
+      double x[3], y[3], ue[6], sig[3], area;
+      for (int c = 0; c < 3; ++c) {
+        const int j = M.tri_local[k][c];
+        s.tri[3 * k + c] = node0[e] + j;
+        x[c] = M.type_x[t * kMaxNodes + j], y[c] = M.type_y[t * kMaxNodes + j];
+        ue[2 * c] = hu(e, 2 * j), ue[2 * c + 1] = hu(e, 2 * j + 1);
+      }
+      triangle_stress(x, y, ue, I.p.youngs_modulus, I.p.poisson, I.p.thermal_strain, sig, area);
+      s.tri_brick[k] = b;
+      s.tri_sxx[k] = sig[0], s.tri_syy[k] = sig[1], s.tri_sxy[k] = sig[2];
+      s.brick_syy[b] += sig[1] * area, barea[b] += area;
     }
-    triangle_stress(x, y, ue, I.p.youngs_modulus, I.p.poisson, I.p.thermal_strain, sig, area);
-    s.tri_brick[k] = b;
-    s.tri_sxx[k] = sig[0], s.tri_syy[k] = sig[1], s.tri_sxy[k] = sig[2];
-    s.brick_syy[b] += sig[1] * area, barea[b] += area;
-  }
-  for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
-  s.iface_damage = std::move(damage), s.iface_state = std::move(state);
-  return s;
+    for (std::size_t b = 0; b < I.n_bricks; ++b) s.brick_syy[b] /= barea[b] > 0 ? barea[b] : 1.0;
+    s.iface_damage = std::move(damage), s.iface_state = std::move(state);
+    return s;
+  });
 }
 
 void Simulation::interface_damage(std::vector<double>& damage, std::vector<int>& state,
                                   std::vector<double>* energy) const {
-  auto& I = *impl_;
-  Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
-  const int nm = I.m.n_mortar;  // bed/head only
-  Kokkos::View<double*, Mem> dmg(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage"),
-                                 std::max(nm, 1));
-  Kokkos::View<int*, Mem> st(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
-                             std::max(nm, 1));
-  Kokkos::View<double*, Mem> en;
-  if (energy)
-    en = Kokkos::View<double*, Mem>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"),
-                                    std::max(nm, 1));
-  const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
-  I.backend.visit([&](const auto& space) { dyn::interface_damage(space, op, nm, dmg, st, en); });
-  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
-  auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
-  auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, en);
-  const auto& M = I.map;
-  // (geometry index, damage, state, energy) of this rank's owned rows; on ranks gathered to rank 0
-  std::vector<double> mine;
-  mine.reserve(static_cast<std::size_t>(nm) * 4);
-  for (int i = 0; i < nm; ++i)
-    if (M.iface_owned[i])
-      mine.insert(mine.end(), {static_cast<double>(M.iface_geom[M.iface_global[i]]), hd(i), static_cast<double>(hs(i)),
-                               energy ? he(i) : 0.0});
-  const auto parts = I.comm.gather(std::move(mine));
-  damage.clear(), state.clear();
-  if (energy) energy->clear();
-  if (I.comm.rank() != 0) return;
-  const auto n = static_cast<std::size_t>(M.n_mortar);
-  damage.assign(n, 0.0);
-  state.assign(n, 0);
-  if (energy) energy->assign(n, 0.0);
-  for (const auto& part : parts)
-    for (std::size_t k = 0; k + 4 <= part.size(); k += 4) {  // back to the geometry's interface order
-      const auto g = static_cast<std::size_t>(part[k]);
-      damage[g] = part[k + 1], state[g] = static_cast<int>(part[k + 2]);
-      if (energy) (*energy)[g] = part[k + 3];
-    }
+  return on([&](auto& I) -> void {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    Kokkos::Profiling::ScopedRegion region("nacre::dyn::interface_damage");
+    const int nm = I.m.n_mortar;  // bed/head only
+    Kokkos::View<double*, Mem> dmg(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage"),
+                                   std::max(nm, 1));
+    Kokkos::View<int*, Mem> st(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::damage_state"),
+                               std::max(nm, 1));
+    Kokkos::View<double*, Mem> en;
+    if (energy)
+      en = Kokkos::View<double*, Mem>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "nacre::dyn::iface_energy"),
+                                      std::max(nm, 1));
+    const InterfaceOp<Mem> op(I.m, I.u, I.iforce);
+    I.backend.template visit_in<Mem>([&](const auto& space) { dyn::interface_damage(space, op, nm, dmg, st, en); });
+    auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, dmg);
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, st);
+    auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace{}, en);
+    const auto& M = I.map;
+    // (geometry index, damage, state, energy) of this rank's owned rows; on ranks gathered to rank 0
+    std::vector<double> mine;
+    mine.reserve(static_cast<std::size_t>(nm) * 4);
+    for (int i = 0; i < nm; ++i)
+      if (M.iface_owned[i])
+        mine.insert(mine.end(), {static_cast<double>(M.iface_geom[M.iface_global[i]]), hd(i),
+                                 static_cast<double>(hs(i)), energy ? he(i) : 0.0});
+    const auto parts = I.comm.gather(std::move(mine));
+    damage.clear(), state.clear();
+    if (energy) energy->clear();
+    if (I.comm.rank() != 0) return;
+    const auto n = static_cast<std::size_t>(M.n_mortar);
+    damage.assign(n, 0.0);
+    state.assign(n, 0);
+    if (energy) energy->assign(n, 0.0);
+    for (const auto& part : parts)
+      for (std::size_t k = 0; k + 4 <= part.size(); k += 4) {  // back to the geometry's interface order
+        const auto g = static_cast<std::size_t>(part[k]);
+        damage[g] = part[k + 1], state[g] = static_cast<int>(part[k + 2]);
+        if (energy) (*energy)[g] = part[k + 3];
+      }
+  });
 }
 
 StateArrays Simulation::save_state() const {
-  auto& I = *impl_;
-  StateArrays s;
-  const auto& M = I.map;
-  const auto ne = static_cast<std::size_t>(M.n_elem);
-  // on ranks the whole model's rows on rank 0 (the others: empty arrays), in the one-process layout
-  s["u"] = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
-  s["v"] = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
-  s["a"] = gather_rows(I.comm, I.a, M.elem_global, M.elem_owned, ne);
-  s["acc"] = gather_rows(I.comm, I.acc, M.elem_global, M.elem_owned, ne);
-  s["dacc"] = gather_rows(I.comm, I.dacc, M.driven_global, M.driven_owned, std::max<std::size_t>(M.n_driven, 1));
-  if (I.m.irreversible) {  // irreversible damage (optional array): the bed/head rows (a collective: the deck decides)
-    const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
-    s["history"] = gather_rows(I.comm, I.m.hist, rows, M.iface_owned, static_cast<std::size_t>(M.n_mortar));
-  }
-  // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
-  // changes, the step of the time base, the energy the books do not account for (a restore
-  // that finds another value was set by hand), and the growth monitor's longest run so far
-  const double unaccounted = I.unaccounted(I.energies());
-  s["clock"] = {static_cast<double>(I.step),
-                I.dt0,
-                I.e_ref,
-                I.t_base,
-                I.p.dt,
-                I.report.bound_start,
-                I.e_in,
-                static_cast<double>(I.report.dt_changes),
-                static_cast<double>(I.step_base),
-                unaccounted,
-                static_cast<double>(I.report.growth_longest)};
-  s["shape"] = {static_cast<double>(I.map.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
-                static_cast<double>(I.map.n_iface)};
-  return s;
+  return on([&](auto& I) -> StateArrays {
+    StateArrays s;
+    const auto& M = I.map;
+    const auto ne = static_cast<std::size_t>(M.n_elem);
+    // on ranks the whole model's rows on rank 0 (the others: empty arrays), in the one-process layout
+    s["u"] = gather_rows(I.comm, I.u, M.elem_global, M.elem_owned, ne);
+    s["v"] = gather_rows(I.comm, I.v, M.elem_global, M.elem_owned, ne);
+    s["a"] = gather_rows(I.comm, I.a, M.elem_global, M.elem_owned, ne);
+    s["acc"] = gather_rows(I.comm, I.acc, M.elem_global, M.elem_owned, ne);
+    s["dacc"] = gather_rows(I.comm, I.dacc, M.driven_global, M.driven_owned, std::max<std::size_t>(M.n_driven, 1));
+    if (I.m.irreversible) {  // irreversible damage (optional array): the bed/head rows (a collective: the deck decides)
+      const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
+      s["history"] = gather_rows(I.comm, I.m.hist, rows, M.iface_owned, static_cast<std::size_t>(M.n_mortar));
+    }
+    // step, start dt, E_ref, then the time base, current dt, the bound at the start, E_in, dt
+    // changes, the step of the time base, the energy the books do not account for (a restore
+    // that finds another value was set by hand), and the growth monitor's longest run so far
+    const double unaccounted = I.unaccounted(I.energies());
+    s["clock"] = {static_cast<double>(I.step),
+                  I.dt0,
+                  I.e_ref,
+                  I.t_base,
+                  I.p.dt,
+                  I.report.bound_start,
+                  I.e_in,
+                  static_cast<double>(I.report.dt_changes),
+                  static_cast<double>(I.step_base),
+                  unaccounted,
+                  static_cast<double>(I.report.growth_longest)};
+    s["shape"] = {static_cast<double>(I.map.n_elem), static_cast<double>(I.m.nd), static_cast<double>(I.p.method),
+                  static_cast<double>(I.map.n_iface)};
+    return s;
+  });
 }
 
 const std::vector<std::string>& Simulation::state_array_names() {
@@ -783,114 +840,138 @@ const std::vector<std::string>& Simulation::state_array_names() {
 }
 
 void Simulation::restore_state(const StateArrays& a) {
-  auto& I = *impl_;
-  for (const auto& k : state_array_names())
-    if (!a.count(k)) throw std::runtime_error("dyn::restore_state: array '" + k + "' missing");
-  const auto& shape = a.at("shape");
-  if (shape.size() != 4 || shape[0] != I.map.n_elem || shape[1] != I.m.nd ||
-      shape[2] != static_cast<double>(I.p.method) || shape[3] != I.map.n_iface)
-    throw std::runtime_error("dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
-  const auto& clock = a.at("clock");
-  if (clock.size() != 3 && clock.size() != 10 && clock.size() != 11)
-    throw std::runtime_error("dyn::restore_state: 'clock' needs 3 or 10 (older nacre) or 11 values");
-  if (clock[1] != I.dt0)
-    throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
-                             " s, this run has dt = " + std::to_string(I.p.dt) + " s");
-  const auto& M = I.map;
-  const auto ne = static_cast<std::size_t>(M.n_elem);
-  scatter_rows(I.comm, I.u, a.at("u"), M.elem_global, ne, "u");
-  scatter_rows(I.comm, I.v, a.at("v"), M.elem_global, ne, "v");
-  scatter_rows(I.comm, I.a, a.at("a"), M.elem_global, ne, "a");
-  scatter_rows(I.comm, I.acc, a.at("acc"), M.elem_global, ne, "acc");
-  scatter_rows(I.comm, I.dacc, a.at("dacc"), M.driven_global, std::max<std::size_t>(M.n_driven, 1), "dacc");
-  if (I.m.irreversible) {
-    if (!a.count("history"))
+  return on([&](auto& I) -> void {
+    for (const auto& k : state_array_names())
+      if (!a.count(k)) throw std::runtime_error("dyn::restore_state: array '" + k + "' missing");
+    const auto& shape = a.at("shape");
+    if (shape.size() != 4 || shape[0] != I.map.n_elem || shape[1] != I.m.nd ||
+        shape[2] != static_cast<double>(I.p.method) || shape[3] != I.map.n_iface)
       throw std::runtime_error(
-          "dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
-          "saved state has none");
-    const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
-    scatter_rows(I.comm, I.m.hist, a.at("history"), rows, static_cast<std::size_t>(M.n_mortar), "history");
-  } else if (a.count("history")) {
-    throw std::runtime_error("dyn::restore_state: the saved state has a damage history, this run's law is reversible");
-  }
-  I.step = static_cast<long>(clock[0]);
-  const bool v8 = clock.size() >= 10;  // nacre >= the stability monitor: time base, dt, bound, E_in
-  if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
-  I.t_base = v8 ? clock[3] : 0.0;
-  I.step_base = v8 ? static_cast<long>(clock[8]) : 0;
-  if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
-  if (clock.size() == 11)
-    I.report.growth_longest = static_cast<int>(clock[10]);  // (a restart's summary: the whole run's)
-  const double e_in_saved = v8 ? clock[6] : 0.0;
-  // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
-  // then the mechanical energy not accounted for by work and dissipation becomes the reference,
-  // and E_in, which the balance counts as energy put in.
-  I.e_in = e_in_saved;
-  const Energies e = I.energies();
-  const double emech = e.strain + e.kinetic + e.cohesive, w = e.external_work;
-  const double unaccounted = I.unaccounted(e);
-  I.e_ref = clock[2];
-  // a state saved by save_state has the same unaccounted energy as at its save (older
-  // checkpoints: none beyond 1e-3 of the energies); anything else was set by hand
-  const double expected = v8 ? clock[9] : 0.0;
-  if (std::abs(unaccounted - expected) > 1e-3 * std::max({emech, std::abs(w), kTinyEnergy})) {
-    I.e_ref = std::max(std::abs(clock[2]), std::abs(unaccounted));
-    I.e_in = e_in_saved + unaccounted - expected;
-  }
-  I.why.clear();
+          "dyn::restore_state: saved state is for another model (elements, dof, method or interfaces differ)");
+    const auto& clock = a.at("clock");
+    if (clock.size() != 3 && clock.size() != 10 && clock.size() != 11)
+      throw std::runtime_error("dyn::restore_state: 'clock' needs 3 or 10 (older nacre) or 11 values");
+    if (clock[1] != I.dt0)
+      throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
+                               " s, this run has dt = " + std::to_string(I.p.dt) + " s");
+    const auto& M = I.map;
+    const auto ne = static_cast<std::size_t>(M.n_elem);
+    scatter_rows(I.comm, I.u, a.at("u"), M.elem_global, ne, "u");
+    scatter_rows(I.comm, I.v, a.at("v"), M.elem_global, ne, "v");
+    scatter_rows(I.comm, I.a, a.at("a"), M.elem_global, ne, "a");
+    scatter_rows(I.comm, I.acc, a.at("acc"), M.elem_global, ne, "acc");
+    scatter_rows(I.comm, I.dacc, a.at("dacc"), M.driven_global, std::max<std::size_t>(M.n_driven, 1), "dacc");
+    if (I.m.irreversible) {
+      if (!a.count("history"))
+        throw std::runtime_error(
+            "dyn::restore_state: this run keeps a damage history (damage = \"irreversible\"), the "
+            "saved state has none");
+      const std::vector<int> rows(M.iface_global.begin(), M.iface_global.begin() + I.m.n_mortar);
+      scatter_rows(I.comm, I.m.hist, a.at("history"), rows, static_cast<std::size_t>(M.n_mortar), "history");
+    } else if (a.count("history")) {
+      throw std::runtime_error(
+          "dyn::restore_state: the saved state has a damage history, this run's law is reversible");
+    }
+    I.step = static_cast<long>(clock[0]);
+    const bool v8 = clock.size() >= 10;  // nacre >= the stability monitor: time base, dt, bound, E_in
+    if (v8 && clock[4] != I.p.dt) I.change_dt(clock[4]);
+    I.t_base = v8 ? clock[3] : 0.0;
+    I.step_base = v8 ? static_cast<long>(clock[8]) : 0;
+    if (v8) I.report.bound_start = clock[5], I.report.dt_changes = static_cast<long>(clock[7]);
+    if (clock.size() == 11)
+      I.report.growth_longest = static_cast<int>(clock[10]);  // (a restart's summary: the whole run's)
+    const double e_in_saved = v8 ? clock[6] : 0.0;
+    // E_ref: the saved reference, unless the state was set by hand (e.g. initial velocities):
+    // then the mechanical energy not accounted for by work and dissipation becomes the reference,
+    // and E_in, which the balance counts as energy put in.
+    I.e_in = e_in_saved;
+    const Energies e = I.energies();
+    const double emech = e.strain + e.kinetic + e.cohesive, w = e.external_work;
+    const double unaccounted = I.unaccounted(e);
+    I.e_ref = clock[2];
+    // a state saved by save_state has the same unaccounted energy as at its save (older
+    // checkpoints: none beyond 1e-3 of the energies); anything else was set by hand
+    const double expected = v8 ? clock[9] : 0.0;
+    if (std::abs(unaccounted - expected) > 1e-3 * std::max({emech, std::abs(w), kTinyEnergy})) {
+      I.e_ref = std::max(std::abs(clock[2]), std::abs(unaccounted));
+      I.e_in = e_in_saved + unaccounted - expected;
+    }
+    I.why.clear();
+  });
 }
 
 std::size_t Simulation::bytes() const {
-  auto& I = *impl_;
-  std::size_t b = model_bytes(I.m);
-  for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
-  b += (I.m.hist.span() + I.hist0.span()) * sizeof(double);
-  b += (I.acc.span() + I.acc0.span() + I.dacc.span() + I.dacc0.span() + I.iforce.span()) * sizeof(double);
-  if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
-  return b;
-}
-std::size_t Simulation::step_bytes() const {
-  auto& I = *impl_;
-  std::size_t st = (I.u.span() + I.v.span() + I.a.span() + I.acc.span() + I.dacc.span()) * sizeof(double);
-  std::size_t b = model_bytes(I.m) + 2 * st;
-  if (I.is_bie()) b += I.bie.Jinv.span() * sizeof(double);  // the shared J^-1 (a few KB)
-  return b;
-}
-double Simulation::step_flops() const {
-  const auto& I = *impl_;
-  if (I.is_bie()) return NAN;
-  const auto& m = I.m;
-  const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
-  const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
-  double per_elem = 4.0 * nd;                                         // initial: u += h v + h^2/2 a
-  per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
-  per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;                // r = f - K u - alpha M w - beta K w
-  per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
-  per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;                // beta v K v; the books
-  // an interface: the jump at both ends (4 components of 2 shape-weighted differences), the end
-  // forces, their split onto the 8 edge dofs ((1 - x) F0 + (1 - x') F1) and the gather (8 adds)
-  const cohesive::Law& law = m.laws.law[0];
-  const double e = 0.5 * law.x1;  // an elastic gap (below x1), opening
-  const cohesive::BasicGap<flops::Counted> g{0.6 * e, 0.8 * e, 0.5 * e, 0.7 * e, 0.0, 1.0};
-  const double ends = flops::count([&] { (void)cohesive::integrate(cohesive::TractionTag{}, law, g, 1.0); }).flops();
-  const double per_iface = 4.0 * 9.0 + ends + 8.0 * 5.0 + 8.0;
-  return per_elem * static_cast<double>(m.n_elem) + per_iface * static_cast<double>(m.n_iface);
-}
-double Simulation::jacobian_condition() const { return impl_->is_bie() ? impl_->bie.max_condition : 0.0; }
-double Simulation::bie_residual() const {
-  auto& I = *impl_;
-  if (!I.is_bie() || I.step == 0) return 0.0;
-  return I.backend.visit([&](const auto& space) {
-    return bie_last_residual(space, I.ws, I.acc, I.m.drive, I.m.n_elem, I.m.elem_owned, I.reduce(I.own_elem));
+  return on([&](auto& I) -> std::size_t {
+    std::size_t b = model_bytes(I.m);
+    for (const auto* d : {&I.u, &I.v, &I.a, &I.u0, &I.v0, &I.a0}) b += d->span() * sizeof(double);
+    b += (I.m.hist.span() + I.hist0.span()) * sizeof(double);
+    b += (I.acc.span() + I.acc0.span() + I.dacc.span() + I.dacc0.span() + I.iforce.span()) * sizeof(double);
+    if (I.is_bie()) b += bie_bytes(I.bie) + (I.pn.span() + I.vn.span() + I.R.span()) * sizeof(double);
+    return b;
   });
 }
-int Simulation::element_types() const { return impl_->m.n_types; }
-int Simulation::sliver_elements() const { return impl_->m.sliver_elements; }
-double Simulation::sliver_mass_added() const { return impl_->m.sliver_mass_added; }
-double Simulation::sliver_step_gain() const { return impl_->m.sliver_step_gain; }
-std::size_t Simulation::bricks() const { return impl_->n_bricks; }
-long long Simulation::halo_bytes() const { return impl_->comm.sum(impl_->halo ? impl_->halo->bytes() : 0LL); }
-long long Simulation::halo_exchanges() const { return impl_->halo ? impl_->halo->exchanges() : 0; }
+std::size_t Simulation::step_bytes() const {
+  return on([&](auto& I) -> std::size_t {
+    std::size_t st = (I.u.span() + I.v.span() + I.a.span() + I.acc.span() + I.dacc.span()) * sizeof(double);
+    std::size_t b = model_bytes(I.m) + 2 * st;
+    if (I.is_bie()) b += I.bie.Jinv.span() * sizeof(double);  // the shared J^-1 (a few KB)
+    return b;
+  });
+}
+double Simulation::step_flops() const {
+  return on([&](auto& I) -> double {
+    if (I.is_bie()) return NAN;
+    const auto& m = I.m;
+    const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
+    const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
+    double per_elem = 4.0 * nd;                                         // initial: u += h v + h^2/2 a
+    per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
+    per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;                // r = f - K u - alpha M w - beta K w
+    per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
+    per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;                // beta v K v; the books
+    // an interface: the jump at both ends (4 components of 2 shape-weighted differences), the end
+    // forces, their split onto the 8 edge dofs ((1 - x) F0 + (1 - x') F1) and the gather (8 adds)
+    const cohesive::Law& law = m.laws.law[0];
+    const double e = 0.5 * law.x1;  // an elastic gap (below x1), opening
+    const cohesive::BasicGap<flops::Counted> g{0.6 * e, 0.8 * e, 0.5 * e, 0.7 * e, 0.0, 1.0};
+    const double ends = flops::count([&] { (void)cohesive::integrate(cohesive::TractionTag{}, law, g, 1.0); }).flops();
+    const double per_iface = 4.0 * 9.0 + ends + 8.0 * 5.0 + 8.0;
+    return per_elem * static_cast<double>(m.n_elem) + per_iface * static_cast<double>(m.n_iface);
+  });
+}
+double Simulation::jacobian_condition() const {
+  return on([&](auto& I) -> double { return I.is_bie() ? I.bie.max_condition : 0.0; });
+}
+double Simulation::bie_residual() const {
+  return on([&](auto& I) -> double {
+    using Mem = typename std::decay_t<decltype(I)>::Mem;
+    if (!I.is_bie() || I.step == 0) return 0.0;
+    return I.backend.template visit_in<Mem>([&](const auto& space) {
+      return bie_last_residual(space, I.ws, I.acc, I.m.drive, I.m.n_elem, I.m.elem_owned, I.reduce(I.own_elem));
+    });
+  });
+}
+int Simulation::element_types() const {
+  return on([&](auto& I) -> int { return I.m.n_types; });
+}
+int Simulation::sliver_elements() const {
+  return on([&](auto& I) -> int { return I.m.sliver_elements; });
+}
+double Simulation::sliver_mass_added() const {
+  return on([&](auto& I) -> double { return I.m.sliver_mass_added; });
+}
+double Simulation::sliver_step_gain() const {
+  return on([&](auto& I) -> double { return I.m.sliver_step_gain; });
+}
+std::size_t Simulation::bricks() const {
+  return on([&](auto& I) -> std::size_t { return I.n_bricks; });
+}
+long long Simulation::halo_bytes() const {
+  return on([&](auto& I) -> long long { return I.comm.sum(I.halo ? I.halo->bytes() : 0LL); });
+}
+long long Simulation::halo_exchanges() const {
+  return on([&](auto& I) -> long long { return I.halo ? I.halo->exchanges() : 0; });
+}
 
 double critical_step(const Backend& space, const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
                      const deck::Mortar& mortar, long steps, double rtol) {

@@ -200,7 +200,7 @@ struct HessianFactor::Impl {
   long long n = 0;  // free bricks of the whole specimen
 
   /// first call: the adjacency, the numbering and (rank 0) who holds which unknowns
-  void setup(const Model<>& m) {
+  void setup(const Model<Kokkos::HostSpace>& m) {
     if (ready) return;
     nf = m.n_free;
     off.assign(m.adj_offset.data(), m.adj_offset.data() + nf + 1);
@@ -227,7 +227,8 @@ struct HessianFactor::Impl {
   }
   /// y = op(r) on the whole vector: gathered to rank 0, op there, scattered back
   template <class Op>
-  void through_root(const GradientView<>& r, const GradientView<>& y, const Op& op) const {
+  void through_root(const GradientView<Kokkos::HostSpace>& r, const GradientView<Kokkos::HostSpace>& y,
+                    const Op& op) const {
     std::vector<double> mine(3 * static_cast<std::size_t>(nf));
     for (int b = 0; b < nf; ++b)
       for (int k = 0; k < 3; ++k) mine[3 * static_cast<std::size_t>(b) + k] = r(b, k);
@@ -263,10 +264,9 @@ void HessianFactor::distribute(const par::Comm& comm, std::vector<int> global_fr
   impl_->global_free = std::move(global_free);
 }
 
-void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t,
-                           double floor_r, bool indefinite) {
-  if (!Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible)
-    throw std::logic_error("nacre::mc::HessianFactor: host memory only (device builds use block-Jacobi)");
+void HessianFactor::factor(const Model<Kokkos::HostSpace>& m, const BlockView<Kokkos::HostSpace>& diag,
+                           const SlotBlockView<Kokkos::HostSpace>& slots, double floor_t, double floor_r,
+                           bool indefinite) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::factor");
   auto& I = *impl_;
   I.setup(m);
@@ -395,7 +395,7 @@ void HessianFactor::factor(const Model<>& m, const BlockView<>& diag, const Slot
   I.shift = result[0];
 }
 
-void HessianFactor::solve(const GradientView<>& r, const GradientView<>& y) const {
+void HessianFactor::solve(const GradientView<Kokkos::HostSpace>& r, const GradientView<Kokkos::HostSpace>& y) const {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::factor_solve");
   const auto& I = *impl_;
   I.through_root(r, y, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return I.llt->solve(v); });

@@ -23,8 +23,8 @@ std::vector<int> sweep_order(const Colouring& colouring) {
 
 namespace {
 template <class ExecutionSpace>
-void alloc_tile_offset(const ExecutionSpace& space, Model<>& m, const std::vector<int>& toff) {
-  m.tile_offset = Kokkos::View<int*>(
+void alloc_tile_offset(const ExecutionSpace& space, Model<MemOf<ExecutionSpace>>& m, const std::vector<int>& toff) {
+  m.tile_offset = Kokkos::View<int*, MemOf<ExecutionSpace>>(
       Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::tile_offset"), toff.size());
   auto h = Kokkos::create_mirror_view(Kokkos::WithoutInitializing, m.tile_offset);
   for (std::size_t i = 0; i < toff.size(); ++i) h(i) = toff[i];
@@ -32,11 +32,13 @@ void alloc_tile_offset(const ExecutionSpace& space, Model<>& m, const std::vecto
 }
 
 template <class ExecutionSpace>
-Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
-                       const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
-                       int quadrature_points) {
+Model<MemOf<ExecutionSpace>> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
+                                            const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                            const Colouring& colouring, const deck::Mortar& mortar,
+                                            int quadrature_points) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::build_model");
-  Model<> m;
+  using Mem = MemOf<ExecutionSpace>;
+  Model<Mem> m;
   const int n = static_cast<int>(s.size()), ni = static_cast<int>(f.size());
   m.n_bricks = n;
   m.n_interfaces = ni;
@@ -90,7 +92,7 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
     v = std::remove_reference_t<decltype(v)>(
         Kokkos::view_alloc(space, Kokkos::WithoutInitializing, std::string("nacre::mc::") + label), len);
   };
-  m.pose = Model<>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::pose")), n);  // zero poses
+  m.pose = typename Model<Mem>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::pose")), n);  // zero poses
   alloc(m.cx, "cx", n), alloc(m.cy, "cy", n), alloc(m.drive, "drive", n), alloc(m.id, "id", n);
   alloc(m.phi0, "phi0", n);
   alloc(m.adj_offset, "adj_offset", n + 1);
@@ -174,11 +176,36 @@ Model<> build_model_on(const ExecutionSpace& space, const geometry::Specimen& s,
 
 }  // namespace
 
+template <class ExecutionSpace, class>
+Model<MemOf<ExecutionSpace>> build_model(const ExecutionSpace& space, const geometry::Specimen& s,
+                                         const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                         const Colouring& colouring, const deck::Mortar& mortar,
+                                         int quadrature_points) {
+  return build_model_on(space, s, f, adj, colouring, mortar, quadrature_points);
+}
+
 Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
                     int quadrature_points) {
-  return backend.visit(
-      [&](const auto& space) { return build_model_on(space, s, f, adj, colouring, mortar, quadrature_points); });
+  return backend.visit_in<MemSpace>([&](const auto& space) -> Model<> {
+    return build_model_on(space, s, f, adj, colouring, mortar, quadrature_points);
+  });
 }
+
+// every enabled space (the default is one of them)
+#define NACRE_MC_BUILD_MODEL(E)                                                                                    \
+  template Model<MemOf<E>> build_model<E, void>(const E&, const geometry::Specimen&, const geometry::Interfaces&,  \
+                                                const geometry::Adjacency&, const Colouring&, const deck::Mortar&, \
+                                                int);
+#ifdef KOKKOS_ENABLE_CUDA
+NACRE_MC_BUILD_MODEL(Kokkos::Cuda)
+#endif
+#ifdef KOKKOS_ENABLE_SERIAL
+NACRE_MC_BUILD_MODEL(Kokkos::Serial)
+#endif
+#ifdef KOKKOS_ENABLE_OPENMP
+NACRE_MC_BUILD_MODEL(Kokkos::OpenMP)
+#endif
+#undef NACRE_MC_BUILD_MODEL
 
 }  // namespace nacre::mc

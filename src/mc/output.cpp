@@ -74,7 +74,6 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
 
 std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
                          const fracture::CrackReading& crack, double notch_tip_x) {
-  const auto& m = solver.model();
   const Sizes z = solver.sizes();  // the specimen's, not a rank's part
   const auto& pt = solver.times();
   nlohmann::ordered_json j;
@@ -83,7 +82,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["bricks"] = z.bricks;
   j["free_bricks"] = z.free_bricks;
   j["interfaces"] = z.interfaces;
-  j["colouring"] = m.colouring_name;
+  j["colouring"] = solver.colouring_name();
   j["colouring_rule"] = d.solver.colouring;
   j["colours"] = z.colours;
   j["rng"] = d.solver.rng;
@@ -110,7 +109,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   nlohmann::ordered_json presim = nlohmann::ordered_json::object();
   for (const auto& [name, sec] : solver.presim()) presim[name] = sec;
   j["presimulation_seconds_per_cycle"] = presim;
-  if (!solver.presim().empty()) j["presimulation_pick"] = m.colouring_name;
+  if (!solver.presim().empty()) j["presimulation_pick"] = solver.colouring_name();
   // invalid UTF-8 (a deck path in another encoding) is replaced, never an invalid file
   fracture::put_json(j["crack"], crack, notch_tip_x);
   j["crack"]["thickness"] = 1.0;  // energies per unit depth: fracture_energy per unit crack length is G

@@ -63,10 +63,10 @@ SolverOn<Exec>::SolverOn(const Exec& space, const deck::Deck& d, const geometry:
   const auto adj = geometry::build_adjacency(s.size(), f);
   std::string chosen = d.solver.colouring;
   // "auto" is a fixed rule, so the same deck and seed give the same result on the same build:
-  // tiles (cache-friendly, one thread per tile) where the default space runs on the host, the
+  // tiles (cache-friendly, one thread per tile) where the run's backend runs on the host, the
   // per-brick natural colouring (one thread per brick) on devices. "fastest" times every
   // candidate (results may then differ between runs; the pick goes to summary.json).
-  if (chosen == "auto") chosen = auto_colouring();
+  if (chosen == "auto") chosen = auto_colouring(Backend(space_));
   if (comm.size() > 1)  // what is not yet spread over ranks (docs/scaling.md) says so before any work
     if (const std::string why = ranks_refusal(d, comm.size()); !why.empty()) throw std::invalid_argument(why);
   if (chosen == "fastest") chosen = presimulate(space_, d, s, f, adj, presim_, log_);
@@ -96,8 +96,8 @@ std::string ranks_refusal(const deck::Deck& d, int ranks) {
   return "";
 }
 
-std::string auto_colouring() {
-  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible ? "tiles" : "natural";
+std::string auto_colouring(const Backend& backend) {
+  return backend.reaches<Kokkos::HostSpace>() ? "tiles" : "natural";
 }
 
 template <class Exec>
@@ -189,16 +189,16 @@ void SolverOn<Exec>::allocate_work() {
   // Written before read each cycle / step: no initialisation pass.
   // The uniforms table only for sources that fill one (Philox is drawn inside the sweep).
   u_ = dynamic_cast<const rng::PhiloxSource*>(source_.get())
-           ? rng::UniformTable<>()
-           : rng::UniformTable<>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
-  save_pose_ = Model<>::PoseView(view_alloc(space_, WithoutInitializing, "nacre::mc::save_pose"), n);
-  phi_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::phi"), n);
-  de_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::delta_energy"), nf);
-  iface_energy_ = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::energy_cache"),
-                                static_cast<std::size_t>(m_.n_interfaces));
+           ? rng::UniformTable<Mem>()
+           : rng::UniformTable<Mem>(view_alloc(space_, WithoutInitializing, "nacre::mc::uniforms"), nf);
+  save_pose_ = typename Model<Mem>::PoseView(view_alloc(space_, WithoutInitializing, "nacre::mc::save_pose"), n);
+  phi_ = Field<double, Mem>(view_alloc(space_, WithoutInitializing, "nacre::mc::phi"), n);
+  de_ = Field<double, Mem>(view_alloc(space_, WithoutInitializing, "nacre::mc::delta_energy"), nf);
+  iface_energy_ = Field<double, Mem>(view_alloc(space_, WithoutInitializing, "nacre::mc::energy_cache"),
+                                     static_cast<std::size_t>(m_.n_interfaces));
   cache_valid_ = false;
   // Read before first written (a checkpoint at step 0 stores the previous poses): zeroed.
-  prev_pose_ = Model<>::PoseView(view_alloc(space_, "nacre::mc::prev_pose"), n);
+  prev_pose_ = typename Model<Mem>::PoseView(view_alloc(space_, "nacre::mc::prev_pose"), n);
   brick_steps_ = {};
   if (cfg_.mc.per_brick_steps) {
     brick_steps_.step =
@@ -223,7 +223,7 @@ double SolverOn<Exec>::energy() {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
   // each interface summed by its owner (all here in one process: total_energy's terms)
-  const InterfaceEvaluator<MemSpace> ev(m_);
+  const InterfaceEvaluator<Mem> ev(m_);
   const auto own = owned_mask(dist_.get());
   const double e = deterministic_sum(
       space_, "nacre::mc::total_energy", sum_ws_, 0, m_.n_interfaces,
@@ -251,16 +251,16 @@ int SolverOn<Exec>::ruptured() {
   Kokkos::Timer timer;
   int r = 0;
   if (dist_) {  // each interface counted by its owner
-    Field<std::int8_t> st(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_state"),
-                          m_.n_interfaces);
-    interface_state(space_, m_, Field<double>(), st);
+    Field<std::int8_t, Mem> st(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_state"),
+                               m_.n_interfaces);
+    interface_state(space_, m_, Field<double, Mem>(), st);
     auto own = dist_->iface_owned;
     Kokkos::parallel_reduce(
         "nacre::mc::count_ruptured", Kokkos::RangePolicy<Exec>(space_, 0, m_.n_interfaces),
         KOKKOS_LAMBDA(const int i, int& acc) { acc += own(i) && st(i) == 2; }, r);
     r = static_cast<int>(dist_->comm.sum(static_cast<long long>(r)));
   } else {
-    r = interface_state(space_, m_, Field<double>(), Field<std::int8_t>());
+    r = interface_state(space_, m_, Field<double, Mem>(), Field<std::int8_t, Mem>());
   }
   times_.energy += timer.seconds();
   return r;
@@ -271,11 +271,12 @@ std::vector<std::int8_t> SolverOn<Exec>::interface_states(std::vector<double>* e
   Kokkos::Profiling::ScopedRegion region("nacre::mc::energy");  // PhaseTimes::energy
   Kokkos::Timer timer;
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
-  Field<std::int8_t> st(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state"), m_.n_interfaces);
-  Field<double> en;
-  if (energy) en = Field<double>(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy"), m_.n_interfaces);
+  Field<std::int8_t, Mem> st(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state"), m_.n_interfaces);
+  Field<double, Mem> en;
+  if (energy)
+    en = Field<double, Mem>(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy"), m_.n_interfaces);
   // with a history the energy of fracture is what each joint dissipated, not its cohesive energy
-  interface_state(space_, m_, m_.hist.data() ? Field<double>() : en, st);
+  interface_state(space_, m_, m_.hist.data() ? Field<double, Mem>() : en, st);
   if (energy && m_.hist.data()) interface_dissipation(space_, m_, en);
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), st);
   auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), en);
@@ -309,7 +310,7 @@ Sizes SolverOn<Exec>::sizes() const {
   z.colours = dist_ ? dist_->n_colours : static_cast<int>(m_.colour_offset.size()) - 1;
   z.ranks = dist_ ? dist_->comm.size() : 1;
   if (dist_)
-    z.halo_messages = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible ? "host memory"
+    z.halo_messages = Kokkos::SpaceAccessibility<Kokkos::HostSpace, Mem>::accessible ? "host memory"
                       : dist_->comm.device_direct() ? "device memory, direct (GPU-aware MPI)"
                                                     : "device memory, staged through host";
   return z;
@@ -319,12 +320,12 @@ template <class Exec>
 OutputFields SolverOn<Exec>::output_fields() {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::output_fields");
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
-  Field<double> be(view_alloc(space_, WithoutInitializing, "nacre::mc::brick_energy_out"), m_.n_bricks);
-  Field<double> ie(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy_out"), m_.n_interfaces);
-  Field<std::int8_t> is(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state_out"), m_.n_interfaces);
+  Field<double, Mem> be(view_alloc(space_, WithoutInitializing, "nacre::mc::brick_energy_out"), m_.n_bricks);
+  Field<double, Mem> ie(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_energy_out"), m_.n_interfaces);
+  Field<std::int8_t, Mem> is(view_alloc(space_, WithoutInitializing, "nacre::mc::iface_state_out"), m_.n_interfaces);
   interface_state(space_, m_, ie, is);
   // an owned brick's interfaces are all on its rank (the halo); each evaluated once, above
-  brick_energy(space_, m_, be, Kokkos::View<const double*, MemSpace>(ie));
+  brick_energy(space_, m_, be, Kokkos::View<const double*, Mem>(ie));
   auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m_.pose);
   auto hbe = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), be);
   auto hie = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ie);
@@ -353,8 +354,8 @@ OutputFields SolverOn<Exec>::output_fields() {
 template <class Exec>
 double SolverOn<Exec>::dissipated() {
   if (!m_.hist.data()) return 0.0;
-  Field<double> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
-                   m_.n_interfaces);
+  Field<double, Mem> en(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::iface_dissipation"),
+                        m_.n_interfaces);
   interface_dissipation(space_, m_, en);
   const auto own = owned_mask(dist_.get());
   return deterministic_sum(
@@ -426,8 +427,8 @@ PolishResult SolverOn<Exec>::anneal(const PolishOptions& o) {
   // bricks already at their minimum (the majority) shrink everyone's step below what the last
   // far-off bricks need, and the residual (a maximum over bricks) stalls. The run's own steps
   // (global pair or per-brick table) are swapped out and come back untouched.
-  const BrickSteps<> run_steps = brick_steps_;
-  BrickSteps<> own;
+  const BrickSteps<Mem> run_steps = brick_steps_;
+  BrickSteps<Mem> own;
   own.step = decltype(own.step)(Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::anneal::step"),
                                 m_.n_free);
   own.accepted = decltype(own.accepted)(Kokkos::view_alloc(space_, "nacre::mc::anneal::accepted"), m_.n_free);
@@ -506,8 +507,10 @@ long SolverOn<Exec>::cycle() {
         if (dist_) dist_->halo->exchange(space_, dist_->comm, m_, static_cast<int>(c), iface_energy_);
       }
     };
-    if (philox) sweep(PhiloxUniforms<MemSpace>{m_.id, philox->seed(), global_cycle_});
-    else sweep(TableUniforms<MemSpace>{u_});
+    if (philox)
+      sweep(PhiloxUniforms<Mem>{m_.id, philox->seed(), global_cycle_});
+    else
+      sweep(TableUniforms<Mem>{u_});
     auto d = de_;
     de = deterministic_sum(
         space_, "nacre::mc::sum_delta_energy", sum_ws_, 0, m_.n_free, KOKKOS_LAMBDA(const int b) { return d(b); },
@@ -658,7 +661,7 @@ long SolverOn<Exec>::relax_auto(bool& converged, long limit) {
     const double e_had = had ? energy() : 0.0;
     if (had) {
       if (!burst_pose_.data())
-        burst_pose_ = Model<>::PoseView(
+        burst_pose_ = typename Model<Mem>::PoseView(
             Kokkos::view_alloc(space_, Kokkos::WithoutInitializing, "nacre::mc::burst_pose"), m_.n_bricks);
       Kokkos::deep_copy(space_, burst_pose_, m_.pose);
     }
@@ -1041,8 +1044,25 @@ decltype(auto) Solver::on(F&& f) const {
 Backend Solver::backend() const {
   return on([](const auto& s) { return Backend(s.space()); });
 }
+namespace {
+/// What model() and gradient() say on a backend that keeps its model outside the default memory
+/// space (a host backend of a CUDA build): they return default-memory views, and it has none.
+[[noreturn, maybe_unused]] void not_in_default_memory(const std::string& space, const char* what) {
+  throw std::logic_error(std::string("nacre::mc::Solver::") + what + ": this solver runs on " + space +
+                         ", whose memory is not the default memory space");
+}
+}  // namespace
+
 const Model<>& Solver::model() const {
-  return on([](const auto& s) -> const Model<>& { return s.model(); });
+  return on([](const auto& s) -> const Model<>& {
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(s)>::Mem, MemSpace>)
+      return s.model();
+    else
+      not_in_default_memory(s.space().name(), "model");
+  });
+}
+const std::string& Solver::colouring_name() const {
+  return on([](const auto& s) -> const std::string& { return s.model().colouring_name; });
 }
 Sizes Solver::sizes() const {
   return on([](const auto& s) { return s.sizes(); });
@@ -1084,7 +1104,12 @@ const ResidualScale& Solver::residual_scale() const {
   return on([](const auto& s) -> const ResidualScale& { return s.residual_scale(); });
 }
 const GradientView<>& Solver::gradient() const {
-  return on([](const auto& s) -> const GradientView<>& { return s.gradient(); });
+  return on([](const auto& s) -> const GradientView<>& {
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(s)>::Mem, MemSpace>)
+      return s.gradient();
+    else
+      not_in_default_memory(s.space().name(), "gradient");
+  });
 }
 long Solver::cycle() {
   return on([](auto& s) { return s.cycle(); });

@@ -18,17 +18,17 @@ enum class Relaxation { monte_carlo, gradient, newton, automatic };
 
 template <class Exec>
 class SolverOn {
-  static_assert(Kokkos::SpaceAccessibility<Exec, MemSpace>::accessible,
-                "mc::SolverOn: the execution space must reach the model's memory space");
-
 public:
+  /// where the model, the state and every work array live: the execution space's own memory
+  using Mem = MemOf<Exec>;
+
   /// `owner` (may be null: a pre-simulation candidate) is the face whose on_progress and
   /// should_stop hooks the loops call.
   SolverOn(const Exec& space, const deck::Deck& d, const geometry::Specimen& s, const geometry::Interfaces& f,
            const Solver* owner, std::ostream* log, const par::Comm& comm = {});
 
   [[nodiscard]] const Exec& space() const { return space_; }
-  [[nodiscard]] const Model<>& model() const { return m_; }
+  [[nodiscard]] const Model<Mem>& model() const { return m_; }
   [[nodiscard]] Sizes sizes() const;
   [[nodiscard]] OutputFields output_fields();
   [[nodiscard]] const std::vector<std::pair<std::string, double>>& presim() const { return presim_; }
@@ -43,7 +43,7 @@ public:
   PolishResult polish_with(PolishMethod method, double tolerance = 0);
   PolishResult anneal(const PolishOptions& o);
   [[nodiscard]] const ResidualScale& residual_scale() const { return scale_; }
-  [[nodiscard]] const GradientView<>& gradient() const { return polisher_.gradient(); }
+  [[nodiscard]] const GradientView<Mem>& gradient() const { return polisher_.gradient(); }
   long cycle();
   [[nodiscard]] std::size_t cycle_bytes() const;
   [[nodiscard]] std::optional<double> cycle_flops() const;
@@ -130,19 +130,19 @@ private:
 
   Exec space_;
   Settings cfg_;
-  Model<> m_;
+  Model<Mem> m_;
   loading::Pattern pattern_;
   std::unique_ptr<rng::UniformSource> source_;
-  rng::UniformTable<> u_;
-  SumWorkspace<> sum_ws_;
-  Field<double> de_;  ///< accepted energy change per free brick in the current cycle
+  rng::UniformTable<Mem> u_;
+  SumWorkspace<Mem> sum_ws_;
+  Field<double, Mem> de_;  ///< accepted energy change per free brick in the current cycle
   /// Each interface's energy at the current poses (the sweep's cache, kernels.hpp); valid only
   /// while cache_valid_: every pose change outside the sweep clears the flag, cycle() refills.
-  Field<double> iface_energy_;
+  Field<double, Mem> iface_energy_;
   bool cache_valid_ = false;
-  BrickSteps<> brick_steps_;                 ///< step_mode = "per-brick" only
-  Model<>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
-  Field<double> phi_;
+  BrickSteps<Mem> brick_steps_;                          ///< step_mode = "per-brick" only
+  typename Model<Mem>::PoseView prev_pose_, save_pose_;  ///< previous converged step (predictor), step start (revert)
+  Field<double, Mem> phi_;
   ConvergenceMonitor monitor_;
   std::vector<std::pair<std::string, double>> presim_;
   PhaseTimes times_;
@@ -164,11 +164,12 @@ private:
   long step_inner_ = 0;   ///< CG iterations of the last relax() (trust region)
   std::string step_method_;       ///< what finished the last relax() (StepRecord::method)
   int step_ruptured0_ = 0;        ///< ruptured joints at the start of the load step (relaxation = "auto")
-  Model<>::PoseView burst_pose_;  ///< relaxation = "auto": Newton's state while a burst looks for a lower one
+  typename Model<Mem>::PoseView
+      burst_pose_;  ///< relaxation = "auto": Newton's state while a burst looks for a lower one
   bool failed_ = false;
   StepRecord failed_step_;
   const Solver* owner_ = nullptr;
-  std::unique_ptr<Distribution<MemSpace>> dist_;  ///< this rank's part of a specimen spread over ranks (null: all here)
+  std::unique_ptr<Distribution<Mem>> dist_;  ///< this rank's part of a specimen spread over ranks (null: all here)
   std::ostream* log_;
 };
 

@@ -3,9 +3,14 @@
 
 namespace nacre::rng {
 
-void PhiloxSource::fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) {
+void PhiloxSource::fill(const Backend& backend, std::uint64_t draw, const AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
-  backend.visit([&](const auto& space) { philox_fill(space, seed_, draw, streams, u); });
+  std::visit(
+      [&](const auto& b) {
+        using MS = typename std::decay_t<decltype(b)>::memory_space;
+        backend.visit_in<MS>([&](const auto& space) { philox_fill(space, seed_, draw, b.streams, b.u); });
+      },
+      batch);
 }
 
 }  // namespace nacre::rng

@@ -10,12 +10,15 @@
 #  4. a run stopped half-way on the first backend, continued on the last one (--restart --extend)
 #     gives the direct run's series (every column but seconds): the checkpoint moves between
 #     backends of one build, and records the one it was written on;
+#  (in a CUDA build the host backends are compared with each other; the device runs both families
+#  and its checkpoint is refused on the host: step 6)
 #  5. `nacre bench` on the small BE deck and the small Monte Carlo deck (cycles, and load steps
 #     with the AES-CTR source), every backend: bench.csv,
 #     bench.json and bench.png written, every backend timed with its phases (the solver's regions),
 #     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2;
 #     --compare against another bench's state: the same state passes, another seed fails (exit 1)
-#     beyond a tight tolerance, another deck is refused (exit 2).
+#     beyond a tight tolerance, another deck is refused (exit 2);
+#  6. (a CUDA build) the device runs both families; its checkpoint is refused on a host backend.
 #   run_backend_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -24,8 +27,14 @@ rm -rf "$work"; mkdir -p "$work"; cd "$work"
 mapfile -t listed < <("$exe" --backend list)
 [ "${#listed[@]}" -ge 1 ] && [[ "${listed[0]}" == *"(default)" ]] && ok "backends: ${listed[*]}" \
   || bad "--backend list printed '${listed[*]}'"
-backends=()
-for l in "${listed[@]}"; do backends+=("${l%% *}"); done
+# the backends compared bit for bit: the host ones (in a CUDA build the device is checked apart:
+# its arithmetic differs, so its checkpoints do not move to the host)
+backends=(); device=""
+for l in "${listed[@]}"; do
+  b="${l%% *}"
+  if [ "$b" = cuda ]; then device="$b"; else backends+=("$b"); fi
+done
+[ "${#backends[@]}" -ge 1 ] || bad "no host backend listed: ${listed[*]}"
 sed 's/^method = "be"/method = "bie"/' "$src/tests/app/tiny_dynamic.toml" > tiny_bie.toml
 for deck in "$src/tests/app/tiny_dynamic.toml" tiny_bie.toml; do
   name=$(basename "$deck" .toml)
@@ -96,9 +105,10 @@ else
   bad "Monte Carlo half run or restart failed: $(tail -3 mc_half.txt mc_moved.txt)"
 fi
 sed 's/^seed = 5/seed = 5\ngenerator = "aes-ctr"/' "$src/tests/app/tiny.toml" > tiny_aes.toml
-if "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 2 -o bench_dyn > bench_dyn.txt 2>&1 &&
-   "$exe" bench "$src/tests/app/tiny.toml" --cycles 5 --repeat 2 -o bench_mc > bench_mc.txt 2>&1 &&
-   "$exe" bench tiny_aes.toml --steps 2 --repeat 2 -o bench_aes > bench_aes.txt 2>&1; then
+hostlist=$(IFS=,; echo "${backends[*]}")
+if "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 2 --backends "$hostlist" -o bench_dyn > bench_dyn.txt 2>&1 &&
+   "$exe" bench "$src/tests/app/tiny.toml" --cycles 5 --repeat 2 --backends "$hostlist" -o bench_mc > bench_mc.txt 2>&1 &&
+   "$exe" bench tiny_aes.toml --steps 2 --repeat 2 --backends "$hostlist" -o bench_aes > bench_aes.txt 2>&1; then
   python3 - "${backends[@]}" <<'PY' && ok "bench: files, phases, bounds and agreement on ${backends[*]}" || bad "bench outputs"
 import csv, json, os, sys
 backends = sys.argv[1:]
@@ -144,8 +154,18 @@ else
   bad "bench --compare: $(tail -3 bench_cmp.txt)"
 fi
 sed 's/^seed = 5/seed = 6/' tiny_aes.toml > tiny_aes6.toml
-expect 1 "beyond the tolerance" "$exe" bench tiny_aes6.toml --steps 2 --repeat 1 --compare bench_aes --tolerance 1e-300 -o bench_cmp6
+expect 1 "beyond the tolerance" "$exe" bench tiny_aes6.toml --steps 2 --repeat 1 --backends "$hostlist" --compare bench_aes --tolerance 1e-300 -o bench_cmp6
 expect 2 "compare the same deck and units" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 5 --repeat 1 --compare bench_aes -o bench_cmp_dyn
+# a device (a CUDA build on a GPU machine): it runs both families, and its checkpoint is refused on
+# the host (their arithmetic differs) naming the backend to continue on
+if [ -n "$device" ]; then
+  if "$exe" half.toml --backend "$device" -o dev_half -q > dev_half.txt 2>&1; then ok "dynamics on $device"
+  else bad "dynamics on $device: $(tail -3 dev_half.txt)"; fi
+  "$exe" "$src/tests/app/tiny.toml" --backend "$device" -o "mc_$device" -q > "mc_$device.txt" 2>&1 \
+    && ok "Monte Carlo on $device" || bad "Monte Carlo on $device: $(tail -3 "mc_$device.txt")"
+  expect 2 "restart it with --backend $device" "$exe" "$src/tests/app/tiny_dynamic.toml" --backend "$first" \
+    -o dev_moved --restart dev_half/checkpoint.h5 --extend
+fi
 
 [ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
 echo "all backend checks passed"

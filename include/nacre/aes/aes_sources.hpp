@@ -14,9 +14,23 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <tuple>
+#include <variant>
 #include <vector>
 
 namespace nacre::aes {
+
+namespace detail {
+template <class Variant>
+struct MasksOf;
+template <class... E>
+struct MasksOf<std::variant<E...>> {
+  using type = std::tuple<Kokkos::View<const exec_lane_t<E>*, MemOf<E>>...>;
+};
+}  // namespace detail
+/// \brief The round-key masks on every enabled backend (its lane type, in its memory space):
+/// element space_index_v<E> serves execution space E; a few KiB each, made once per generator.
+using SpaceMasks = typename detail::MasksOf<AnySpace>::type;
 
 /// \brief AES-CTR: the block for (stream, counter) is AES_key(stream || counter), key from seed.
 [[nodiscard]] std::unique_ptr<rng::UniformSource> make_aes_ctr_source(std::uint64_t seed);
@@ -49,12 +63,12 @@ public:
   explicit AesCtrSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "aes-ctr"; }
   using rng::UniformSource::fill;
-  void fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) override;
   /// \brief The raw 128-bit blocks behind fill (tests, dieharder).
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
 
 private:
-  Kokkos::View<const detail::exec_lane_t<ExecSpace>*, MemSpace> masks_;
+  SpaceMasks masks_;
 };
 
 /// \brief The dissertation's pipeline: Mersenne Twister output whitened by AES-ECB.
@@ -75,7 +89,7 @@ public:
   explicit MtAesSource(std::uint64_t seed);
   [[nodiscard]] std::string name() const override { return "mt-aes"; }
   using rng::UniformSource::fill;
-  void fill(const Backend& backend, std::uint64_t draw, rng::StreamIds<> streams, rng::UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) override;
   /// \brief The raw AES output behind fill.
   void fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits);
   /// \brief The MT plaintexts before whitening (with the q tweak): raw MT for streams < 1024.
@@ -83,10 +97,12 @@ public:
 
 private:
   void advance_to(std::uint64_t draw);
-  Kokkos::View<const detail::exec_lane_t<ExecSpace>*, MemSpace> masks_;
+  SpaceMasks masks_;
   std::vector<std::mt19937> mt_;
-  Kokkos::View<std::uint64_t*, MemSpace> table_;  // kMtStreams x 4 (2 blocks of 2 x 64 bits)
+  // kMtStreams x 4 (2 blocks of 2 x 64 bits), filled on the host; table_ is its copy in the
+  // default memory space (the same view in a host build), which backends on the host do not read
   Kokkos::View<std::uint64_t*, Kokkos::HostSpace> table_host_;
+  Kokkos::View<std::uint64_t*, MemSpace> table_;
   bool have_draw_ = false;
   std::uint64_t last_draw_ = 0;
 };

@@ -3,6 +3,7 @@
 /// \brief What identifies a run's physics in a checkpoint, and the checks a restart makes before
 /// anything in the output directory is touched. Shared by the solver families: each stores its
 /// state as io::Checkpoint named arrays with the fingerprint of its deck.
+#include <nacre/core/backend.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/io/checkpoint.hpp>
 
@@ -17,6 +18,12 @@ namespace nacre::app {
 
 /// \brief 16 hex digits (FNV-1a 64) of physics_text.
 [[nodiscard]] std::string fingerprint(const std::string& physics_text);
+
+/// \brief A checkpoint written on backend `written_on` ("": before backends were recorded) may
+/// continue on `here` only where the results are the same bits (Backend::bit_compatible: the same
+/// backend, or both on the host); otherwise io::CheckpointError naming both and the way out.
+/// `here` is the run's backend's name (no initialised Kokkos needed: `--check` validates first).
+void check_restart_backend(const std::string& checkpoint_path, const std::string& written_on, const std::string& here);
 
 /// \brief Refuses (io::CheckpointError) a checkpoint whose fingerprint differs from the deck's,
 /// naming the first differing line of the physics text ("mortar.k = 100 in the checkpoint,

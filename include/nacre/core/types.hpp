@@ -10,6 +10,9 @@ namespace nacre {
 using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 using HostSpace = Kokkos::HostSpace;
+/// \brief The memory space of execution space E (where a solver built for E keeps its model).
+template <class E>
+using MemOf = typename E::memory_space;
 
 /// \brief Per-entity scalar field (structure of arrays: one contiguous array per quantity, so
 /// consecutive threads read consecutive addresses on GPUs and vector lanes on CPUs).

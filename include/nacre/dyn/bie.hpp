@@ -88,13 +88,16 @@ struct BieTables {
 
 /// \brief Build J (eq. 4.7) for every element type of a bolted model (host, Eigen), invert it,
 /// check cond_1 of the dimensionless D J D^-1, D = diag(I, h I) (throws std::runtime_error above 1e12 or on a non-finite inverse), upload.
-BieTables<> build_bie_tables(const Model<>& m);
+template <class Mem>
+BieTables<Mem> build_bie_tables(const Model<Mem>& m);
 
 /// \brief Host J of eq. 4.7 for type t of the model (2nd x 2nd; padded dof rows are identity).
-std::vector<double> bie_jacobian_host(const Model<>& m, int t);
+template <class Mem>
+std::vector<double> bie_jacobian_host(const Model<Mem>& m, int t);
 
 /// \brief Bytes held by the BIE tables.
-std::size_t bie_bytes(const BieTables<>& b);
+template <class Mem>
+std::size_t bie_bytes(const BieTables<Mem>& b);
 
 /// \brief Names and parsing of the solve variants (deck key `bie_solve`).
 const char* bie_solve_name(BieSolve s);

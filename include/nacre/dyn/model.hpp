@@ -172,8 +172,10 @@ struct HostMap {
 /// gather adds its interfaces' rows in the one-process order: the same bits); the whole model is
 /// assembled on the host first, so element types, sliver scaling, the step estimate and the
 /// interface order are the one-process ones.
-Model<> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part = nullptr);
+/// The model lives in memory space Mem: the default one, or (a CUDA build's host backends) the host's.
+template <class Mem = MemSpace>
+Model<Mem> build_model(const Params& p, const geometry::Specimen& s, const geometry::Interfaces& f,
+                       const deck::Mortar& mortar, HostMap& map, const par::Decomposition* part = nullptr);
 
 /// \brief Cauchy stress (xx, yy, xy) of a CST with nodes (x, y), CCW, nodal displacements u
 /// (6), plane stress E, nu, isotropic eigenstrain eps_th (host; element.cpp). Plain arrays so
@@ -183,10 +185,12 @@ void triangle_stress(const double x[3], const double y[3], const double u[6], do
 
 /// \brief A new time step for the model's step-dependent tables, (M + h/2 C)^-1 per type (the
 /// adaptive step; BIE's J^-1 is rebuilt from the model by build_bie_tables).
-void set_model_step(Model<>& m, double h);
+template <class Mem>
+void set_model_step(Model<Mem>& m, double h);
 
 /// \brief Bytes held by the model's views.
-std::size_t model_bytes(const Model<>& m);
+template <class Mem>
+std::size_t model_bytes(const Model<Mem>& m);
 
 /// \brief Height of a whole brick: the shortest edge among bricks of full area (rectangles of
 /// the running bond; sqrt(full area) when no whole brick exists).

@@ -227,7 +227,11 @@ public:
   [[nodiscard]] double bie_residual() const;
 
 private:
+  /// The state lives in the memory space of the backend it was built for (ImplIn<Mem>,
+  /// simulation.cpp); on() hands every member its own.
   struct Impl;
+  template <class F>
+  decltype(auto) on(F&& f) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -26,6 +26,7 @@
 #include <nacre/par/comm.hpp>
 
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace nacre::mc {
@@ -46,10 +47,20 @@ public:
   /// pattern never changes), the diagonal blocks (xx, yy, tt, xy, xt, yt) and the slot blocks,
   /// and factorise it; `floor_t` / `floor_r` bound the diagonal scaling of the shift.
   /// `indefinite`: the caller saw negative curvature, so sigma = 0 is not tried.
-  void factor(const Model<>& m, const BlockView<>& diag, const SlotBlockView<>& slots, double floor_t, double floor_r,
-              bool indefinite = false);
+  void factor(const Model<Kokkos::HostSpace>& m, const BlockView<Kokkos::HostSpace>& diag,
+              const SlotBlockView<Kokkos::HostSpace>& slots, double floor_t, double floor_r, bool indefinite = false);
+  /// \brief (A model in device memory: std::logic_error. The factor reads its arrays on the host;
+  /// a solver on a device uses block-Jacobi and never makes one.)
+  template <class Mem>
+  void factor(const Model<Mem>&, const BlockView<Mem>&, const SlotBlockView<Mem>&, double, double, bool = false) {
+    throw std::logic_error("nacre::mc::HessianFactor: host memory only (device models use block-Jacobi)");
+  }
   /// \brief y = M^-1 r (free bricks, x / y / theta columns).
-  void solve(const GradientView<>& r, const GradientView<>& y) const;
+  void solve(const GradientView<Kokkos::HostSpace>& r, const GradientView<Kokkos::HostSpace>& y) const;
+  template <class Mem>
+  void solve(const GradientView<Mem>&, const GradientView<Mem>&) const {
+    throw std::logic_error("nacre::mc::HessianFactor: host memory only (device models use block-Jacobi)");
+  }
   /// \brief Start the shift search afresh (its memory of the last positive shift dropped).
   void forget_shift();
   /// \brief The relative shift the last factorisation needed (0: H itself was positive definite).

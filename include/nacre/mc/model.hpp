@@ -92,18 +92,17 @@ struct Model {
 /// k): the free bricks by (colour, tile, wall order), then the driven ones.
 [[nodiscard]] std::vector<int> sweep_order(const Colouring& colouring);
 
-/// \brief Build the model for a given colouring: reorders bricks (free by colour, then driven)
-/// and uploads everything on the backend's instance (fenced before returning). Poses start at zero.
+/// \brief Build the model for a given colouring in the memory space of `space` (an instance of an
+/// enabled space): reorders bricks (free by colour, then driven) and uploads everything on that
+/// instance (fenced before returning). Poses start at zero.
+template <class ExecutionSpace, class = std::enable_if_t<Kokkos::is_execution_space_v<ExecutionSpace>>>
+Model<MemOf<ExecutionSpace>> build_model(const ExecutionSpace& space, const geometry::Specimen& s,
+                                         const geometry::Interfaces& f, const geometry::Adjacency& adj,
+                                         const Colouring& colouring, const deck::Mortar& mortar, int quadrature_points);
+/// \brief The same in the default memory space, on a backend that reaches it.
 Model<> build_model(const Backend& backend, const geometry::Specimen& s, const geometry::Interfaces& f,
                     const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
                     int quadrature_points);
-/// \brief The same on an instance of an enabled space (the kernels' calling convention).
-template <class ExecutionSpace, class = std::enable_if_t<Kokkos::is_execution_space_v<ExecutionSpace>>>
-Model<> build_model(const ExecutionSpace& space, const geometry::Specimen& s, const geometry::Interfaces& f,
-                    const geometry::Adjacency& adj, const Colouring& colouring, const deck::Mortar& mortar,
-                    int quadrature_points) {
-  return build_model(Backend(space), s, f, adj, colouring, mortar, quadrature_points);
-}
 
 /// \brief Segment i of the model (a handful of coalesced loads).
 template <class SegView>

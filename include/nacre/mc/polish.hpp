@@ -40,24 +40,25 @@ namespace nacre::mc {
 /// the top, so the loops below launch on a typed instance).
 template <class ExecutionSpace = ExecSpace>
 class Polisher {
-  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemSpace>::accessible,
-                "Polisher: the execution space must reach the model's memory space");
-
 public:
+  /// the model's and the work arrays' memory: the execution space's own
+  using Mem = MemOf<ExecutionSpace>;
   Polisher() = default;
-  Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic,
+  Polisher(const ExecutionSpace& space, const Model<Mem>& m, NewtonPreconditioner pc = NewtonPreconditioner::automatic,
            FactorPrecision precision = FactorPrecision::single);
 
   /// \brief The exact gradient at the current poses and its residual.
-  double residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale);
-  [[nodiscard]] const GradientView<>& gradient() const { return grad_; }
+  double residual(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale);
+  [[nodiscard]] const GradientView<Mem>& gradient() const { return grad_; }
 
-  PolishResult run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale, const PolishOptions& o);
-  PolishResult fire(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale, const PolishOptions& o);
-  PolishResult newton(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
+  PolishResult run(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale,
+                   const PolishOptions& o);
+  PolishResult fire(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale,
+                    const PolishOptions& o);
+  PolishResult newton(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale,
                       const PolishOptions& o);
   /// \brief Work on a rank's part of a specimen (null: the whole one in this process).
-  void distribute(const Distribution<MemSpace>* d) {
+  void distribute(const Distribution<Mem>* d) {
     dist_ = d;
     tr_.distribute(d);
   }
@@ -65,35 +66,36 @@ public:
 private:
   /// deterministic_sum's combine for `owned` terms of this rank (all of them in one process)
   [[nodiscard]] par::Reduce over(long long owned) const { return reduce_over(dist_, owned); }
-  const Distribution<MemSpace>* dist_ = nullptr;
-  GradientView<> grad_, vel_;
-  Kokkos::View<double* [3], Kokkos::LayoutLeft, MemSpace> save_;
-  Field<double> iface_e_, iface_trial_;
-  SumWorkspace<> ws_;
+  const Distribution<Mem>* dist_ = nullptr;
+  GradientView<Mem> grad_, vel_;
+  Kokkos::View<double* [3], Kokkos::LayoutLeft, Mem> save_;
+  Field<double, Mem> iface_e_, iface_trial_;
+  SumWorkspace<Mem> ws_;
   TrustRegion<ExecutionSpace> tr_;
 };
 
 template <class ExecutionSpace>
-Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc,
+Polisher<ExecutionSpace>::Polisher(const ExecutionSpace& space, const Model<Mem>& m, NewtonPreconditioner pc,
                                    FactorPrecision precision) {
   using Kokkos::view_alloc, Kokkos::WithoutInitializing;
   const auto nf = static_cast<std::size_t>(m.n_free), ni = static_cast<std::size_t>(m.n_interfaces);
-  grad_ = GradientView<>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::gradient"), nf);
-  vel_ = GradientView<>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::velocity"), nf);
+  grad_ = GradientView<Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::gradient"), nf);
+  vel_ = GradientView<Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::velocity"), nf);
   save_ = decltype(save_)(view_alloc(space, WithoutInitializing, "nacre::mc::polish::save"), nf);
-  iface_e_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::energy"), ni);
-  iface_trial_ = Field<double>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::trial_energy"), ni);
+  iface_e_ = Field<double, Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::energy"), ni);
+  iface_trial_ = Field<double, Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::polish::trial_energy"), ni);
   tr_ = TrustRegion<ExecutionSpace>(space, m, pc, precision);
 }
 
 template <class ExecutionSpace>
-double Polisher<ExecutionSpace>::residual(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale) {
+double Polisher<ExecutionSpace>::residual(const ExecutionSpace& space, const Model<Mem>& m,
+                                          const ResidualScale& scale) {
   brick_gradient(space, m, grad_);
   return max_over(dist_, residual_of(space, grad_, m.n_free, scale));
 }
 
 template <class ExecutionSpace>
-PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
+PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale,
                                            const PolishOptions& o) {
   if (o.method == PolishMethod::fire) return fire(space, m, scale, o);
   if (o.method == PolishMethod::newton) return newton(space, m, scale, o);
@@ -106,8 +108,8 @@ PolishResult Polisher<ExecutionSpace>::run(const ExecutionSpace& space, const Mo
 }
 
 template <class ExecutionSpace>
-PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                                            const PolishOptions& o) {
+PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const Model<Mem>& m,
+                                            const ResidualScale& scale, const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_fire");
   // Bitzek et al. 2006, Table 1: N_min 5, f_inc 1.1, f_dec 0.5, alpha_start 0.1, f_alpha 0.99.
   constexpr int n_min = 5;
@@ -117,7 +119,7 @@ PolishResult Polisher<ExecutionSpace>::fire(const ExecutionSpace& space, const M
   int n_pos = 0;
   const int nf = m.n_free, ni = m.n_interfaces;
   const double l = o.rotation_length, inv_l = 1.0 / l;
-  const InterfaceEvaluator<MemSpace> ev(m);
+  const InterfaceEvaluator<Mem> ev(m);
   auto grad = grad_, vel = vel_, save = save_;
   auto pose = m.pose;
   // spread over ranks: interfaces summed by their owner only (an empty view: every one here)
@@ -236,10 +238,10 @@ KOKKOS_INLINE_FUNCTION bool solve_spd3(const double H[3][3], const double g[3], 
 }  // namespace detail
 
 template <class ExecutionSpace>
-PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                                              const PolishOptions& o) {
+PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const Model<Mem>& m,
+                                              const ResidualScale& scale, const PolishOptions& o) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_newton");
-  const InterfaceEvaluator<MemSpace> ev(m);
+  const InterfaceEvaluator<Mem> ev(m);
   auto off = m.adj_offset, adj = m.adj_iface, tiles = m.tile_offset;
   auto pose = m.pose;
   // forward-difference steps of the Hessian and the largest move per Newton step
@@ -250,7 +252,8 @@ PolishResult Polisher<ExecutionSpace>::newton(const ExecutionSpace& space, const
   const double cap[3] = {x1, x1, x1 / l};
   const double inv_f = 1.0 / scale.force, inv_m = 1.0 / scale.moment, skip = 1e-2 * o.tolerance;
   PolishResult r;
-  Field<double> de(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::polish::newton_de"), m.n_free);
+  Field<double, Mem> de(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::mc::polish::newton_de"),
+                        m.n_free);
   r.residual = residual(space, m, scale);
   while (r.residual >= o.tolerance && r.iterations < o.max_iterations) {
     ++r.iterations;

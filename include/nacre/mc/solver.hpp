@@ -135,8 +135,12 @@ public:
   /// \brief The backend the solver runs on.
   [[nodiscard]] Backend backend() const;
 
-  /// \brief This process's model (on one of several ranks: its part of the specimen).
+  /// \brief This process's model (on one of several ranks: its part of the specimen), when the
+  /// backend keeps it in the default memory space (std::logic_error otherwise: a host backend of a
+  /// CUDA build keeps it in host memory).
   [[nodiscard]] const Model<>& model() const;
+  /// \brief The colouring the model was built with (its name: "tiles", "natural", ...).
+  [[nodiscard]] const std::string& colouring_name() const;
   /// \brief The specimen-wide counts (the model's own on one process).
   [[nodiscard]] Sizes sizes() const;
   /// \brief Pre-simulation timings (candidate, seconds per cycle), in the order tried; empty
@@ -177,7 +181,8 @@ public:
   PolishResult anneal(const PolishOptions& o);
   /// \brief The scales the residual is measured against.
   [[nodiscard]] const ResidualScale& residual_scale() const;
-  /// \brief Exact gradient per free brick after residual() or polish() (sweep order).
+  /// \brief Exact gradient per free brick after residual() or polish() (sweep order), in the
+  /// default memory space (as model()).
   [[nodiscard]] const GradientView<>& gradient() const;
 
   /// \brief One MC cycle (RNG batch + every colour once); returns accepted trials.
@@ -248,8 +253,8 @@ private:
 /// std::invalid_argument with this message; the app checks it before it writes anything).
 [[nodiscard]] std::string ranks_refusal(const deck::Deck& d, int ranks);
 
-/// \brief The colouring that colouring = "auto" stands for on this build: "tiles" when the
-/// default execution space runs on the host, "natural" (one brick per thread) on a device.
-[[nodiscard]] std::string auto_colouring();
+/// \brief The colouring that colouring = "auto" stands for on a backend: "tiles" when it runs on
+/// the host, "natural" (one brick per thread) on a device.
+[[nodiscard]] std::string auto_colouring(const Backend& backend = Backend{});
 
 }  // namespace nacre::mc

@@ -60,40 +60,42 @@ KOKKOS_INLINE_FUNCTION void block_inverse(const double h[6], const double floor[
 template <class ExecutionSpace>
 class TrustRegion {
 public:
+  /// the model's and the work vectors' memory: the execution space's own
+  using Mem = MemOf<ExecutionSpace>;
   TrustRegion() = default;
-  TrustRegion(const ExecutionSpace& space, const Model<>& m, NewtonPreconditioner pc,
+  TrustRegion(const ExecutionSpace& space, const Model<Mem>& m, NewtonPreconditioner pc,
               FactorPrecision precision = FactorPrecision::single) {
     const int n_free = m.n_free;
     using Kokkos::view_alloc, Kokkos::WithoutInitializing;
     const auto nf = static_cast<std::size_t>(n_free);
     auto vec = [&](const char* label) {
-      return GradientView<>(view_alloc(space, WithoutInitializing, std::string(label)), nf);
+      return GradientView<Mem>(view_alloc(space, WithoutInitializing, std::string(label)), nf);
     };
     // the step and the CG direction get H v: a row per model brick (a rank's halo rows come
     // from their owners; one process reads only the free rows). Zeroed: the rows of driven
     // bricks are never written but travel in the halo messages (the receivers' mask skips them)
     const auto nb = static_cast<std::size_t>(m.n_bricks);
-    step_ = GradientView<>(view_alloc(space, std::string("nacre::mc::newton::step")), nb);
-    d_ = GradientView<>(view_alloc(space, std::string("nacre::mc::newton::direction")), nb);
+    step_ = GradientView<Mem>(view_alloc(space, std::string("nacre::mc::newton::step")), nb);
+    d_ = GradientView<Mem>(view_alloc(space, std::string("nacre::mc::newton::direction")), nb);
     r_ = vec("nacre::mc::newton::residual"), y_ = vec("nacre::mc::newton::preconditioned");
     hd_ = vec("nacre::mc::newton::h_direction"), save_ = vec("nacre::mc::newton::save");
-    minv_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
-    mblk_ = BlockView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
+    minv_ = BlockView<Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::block_inverse"), nf);
+    mblk_ = BlockView<Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::blocks"), nf);
     md_ = vec("nacre::mc::newton::m_direction");
-    tangents_ = TangentView<>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::interface_tangents"),
-                              static_cast<std::size_t>(m.n_interfaces));
-    trig_ = TrigView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::brick_trig")), nb);
-    constexpr bool host = Kokkos::SpaceAccessibility<Kokkos::HostSpace, MemSpace>::accessible;
+    tangents_ = TangentView<Mem>(view_alloc(space, WithoutInitializing, "nacre::mc::newton::interface_tangents"),
+                                 static_cast<std::size_t>(m.n_interfaces));
+    trig_ = TrigView<Mem>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::brick_trig")), nb);
+    constexpr bool host = std::is_same_v<Mem, Kokkos::HostSpace>;
     if (pc == NewtonPreconditioner::cholesky && !host)
       throw std::invalid_argument(
-          "newton_preconditioner = \"cholesky\" needs host memory (this build's models live "
+          "newton_preconditioner = \"cholesky\" needs host memory (this backend keeps its model "
           "on a device); expected \"block-jacobi\" or \"auto\"");
     if (pc == NewtonPreconditioner::cholesky || (pc == NewtonPreconditioner::automatic && host)) {
       const bool single = precision == FactorPrecision::single;
       factor_ = std::make_shared<HessianFactor>(single);
       ref_factor_ = std::make_shared<HessianFactor>(single);
-      slots_ = SlotBlockView<>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::slot_blocks")),
-                               static_cast<std::size_t>(m.adj_iface.extent(0)));
+      slots_ = SlotBlockView<Mem>(view_alloc(space, WithoutInitializing, std::string("nacre::mc::newton::slot_blocks")),
+                                  static_cast<std::size_t>(m.adj_iface.extent(0)));
     }
   }
 
@@ -101,19 +103,20 @@ public:
   /// o.tolerance, o.max_iterations Newton steps are spent, or the trust radius collapses
   /// (a stall: result not converged). `grad` is the caller's gradient View (written: the final
   /// gradient), e / trial two per-interface energy Views, ws a sum workspace.
-  PolishResult run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale, const PolishOptions& o,
-                   const GradientView<>& grad, Field<double>& e, Field<double>& trial, SumWorkspace<>& ws);
+  PolishResult run(const ExecutionSpace& space, const Model<Mem>& m, const ResidualScale& scale, const PolishOptions& o,
+                   const GradientView<Mem>& grad, Field<double, Mem>& e, Field<double, Mem>& trial,
+                   SumWorkspace<Mem>& ws);
 
   /// \brief Work on a rank's part of a specimen (null: the whole one in this process); before
   /// the first run().
-  void distribute(const Distribution<MemSpace>* d) {
+  void distribute(const Distribution<Mem>* d) {
     dist_ = d;
     if (d && factor_) factor_->distribute(d->comm, d->global_free), ref_factor_->distribute(d->comm, d->global_free);
   }
 
   // ---- the building blocks (public: nvcc needs the enclosing function of a device lambda public)
   /// a . b over the free bricks (deterministic)
-  double dot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a, const GradientView<>& b,
+  double dot(const ExecutionSpace& space, SumWorkspace<Mem>& ws, const GradientView<Mem>& a, const GradientView<Mem>& b,
              int nf) const;
   /// What Steihaug-CG returns besides the step s (step_).
   struct Steihaug {
@@ -127,49 +130,50 @@ public:
   /// recurrences (Conn, Gould & Toint, Trust-Region Methods, 7.5.1: s.M d and d.M d from r.y
   /// and beta; q falls by alpha r.y / 2 a step), so neither an M product per iteration nor an H s
   /// after it is needed. minv_g: M^-1 g where the caller has it (minv_norm2 with the factor).
-  Steihaug steihaug(const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta,
-                    int max_cg, SumWorkspace<>& ws, const GradientView<>& minv_g = {});
+  Steihaug steihaug(const ExecutionSpace& space, const Model<Mem>& m, const GradientView<Mem>& g, double radius,
+                    double eta, int max_cg, SumWorkspace<Mem>& ws, const GradientView<Mem>& minv_g = {});
   /// z += tau d
-  void add_scaled(const ExecutionSpace& space, const GradientView<>& z, const GradientView<>& d, double tau,
+  void add_scaled(const ExecutionSpace& space, const GradientView<Mem>& z, const GradientView<Mem>& d, double tau,
                   int nf) const;
   /// ||g||_{M^-1}^2 with the current preconditioner (with the factor, M^-1 g is left in md_)
-  double minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g, int nf) const;
+  double minv_norm2(const ExecutionSpace& space, SumWorkspace<Mem>& ws, const GradientView<Mem>& g, int nf) const;
   /// 4 eps sum |e(i)|: the rounding of an energy change summed as per-interface differences
-  double rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e, int ni) const;
+  double rounding_of(const ExecutionSpace& space, SumWorkspace<Mem>& ws, const Field<double, Mem>& e, int ni) const;
   /// sum over interfaces of (energy at the poses now - e(i)), the energies now into trial
-  double energy_change(const ExecutionSpace& space, SumWorkspace<>& ws, const InterfaceEvaluator<MemSpace>& ev,
-                       const Field<double>& e, const Field<double>& trial, int ni) const;
+  double energy_change(const ExecutionSpace& space, SumWorkspace<Mem>& ws, const InterfaceEvaluator<Mem>& ev,
+                       const Field<double, Mem>& e, const Field<double, Mem>& trial, int ni) const;
   /// the preconditioner from the Hessian at the current poses (floors: translation, rotation);
   /// `indefinite`: H is likely indefinite (the factor's shift search skips sigma = 0)
-  void precondition(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r,
+  void precondition(const ExecutionSpace& space, const Model<Mem>& m, double floor_t, double floor_r,
                     bool indefinite = false);
   /// y = M^-1 r
-  void precondition_apply(const ExecutionSpace& space, const GradientView<>& r, const GradientView<>& y, int nf) const;
+  void precondition_apply(const ExecutionSpace& space, const GradientView<Mem>& r, const GradientView<Mem>& y,
+                          int nf) const;
   /// the residual of grad (the largest over the ranks)
-  double residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf,
+  double residual_now(const ExecutionSpace& space, const GradientView<Mem>& grad, int nf,
                       const ResidualScale& scale) const;
   /// v's halo rows from their owners (v: a row per model brick); nothing on one process
-  void halo_rows(const ExecutionSpace& space, const GradientView<>& v) const;
+  void halo_rows(const ExecutionSpace& space, const GradientView<Mem>& v) const;
   /// the poses of the halo from their owners after a move; nothing on one process
-  void refresh(const ExecutionSpace& space, const Model<>& m) const {
+  void refresh(const ExecutionSpace& space, const Model<Mem>& m) const {
     if (dist_) dist_->refresh(space, m);
   }
   /// whether the preconditioner is a Cholesky factor (else block-Jacobi)
   [[nodiscard]] bool has_factor() const { return factor_ != nullptr; }
   /// the step of the last steihaug() (a row per model brick)
-  [[nodiscard]] const GradientView<>& step() const { return step_; }
+  [[nodiscard]] const GradientView<Mem>& step() const { return step_; }
   /// the relative shift of the last Cholesky factor (0: H was positive definite, or block-Jacobi)
   [[nodiscard]] double shift() const { return active_ ? active_->shift() : 0.0; }
   /// make the factor of the Hessian at zero poses (every joint elastic: the stiffness of the
   /// intact wall, state-independent) the active preconditioner, factorising it on first use
-  void reference_factor(const ExecutionSpace& space, const Model<>& m, double floor_t, double floor_r);
+  void reference_factor(const ExecutionSpace& space, const Model<Mem>& m, double floor_t, double floor_r);
 
 private:
   [[nodiscard]] par::Reduce over(long long owned) const { return reduce_over(dist_, owned); }
-  [[nodiscard]] FreeMask<> mask() const { return dist_ ? FreeMask<>(dist_->brick_free) : FreeMask<>(); }
-  const Distribution<MemSpace>* dist_ = nullptr;
-  GradientView<> step_, r_, y_, d_, hd_, save_, md_;
-  BlockView<> minv_, mblk_;
+  [[nodiscard]] FreeMask<Mem> mask() const { return dist_ ? FreeMask<Mem>(dist_->brick_free) : FreeMask<Mem>(); }
+  const Distribution<Mem>* dist_ = nullptr;
+  GradientView<Mem> step_, r_, y_, d_, hd_, save_, md_;
+  BlockView<Mem> minv_, mblk_;
   std::shared_ptr<HessianFactor> factor_;      ///< Cholesky of H at a current state (null: block-Jacobi)
   std::shared_ptr<HessianFactor> ref_factor_;  ///< Cholesky of H at zero poses (the intact wall)
   HessianFactor* active_ = nullptr;            ///< the one preconditioning now
@@ -197,24 +201,24 @@ private:
   static constexpr double kGrowExact = 4.0;
   int last_cg_ = 0;                      ///< CG iterations of the last Newton step
   bool last_negative_ = false;           ///< the last Newton step's CG met negative curvature
-  SlotBlockView<> slots_;
-  TangentView<> tangents_;  ///< H v's per-interface pass
-  TrigView<> trig_;         ///< the poses' sines and cosines (brick_trig) for H v and the Hessian's blocks
+  SlotBlockView<Mem> slots_;
+  TangentView<Mem> tangents_;  ///< H v's per-interface pass
+  TrigView<Mem> trig_;         ///< the poses' sines and cosines (brick_trig) for H v and the Hessian's blocks
 };
 
 // ---------------------------------------------------------------------------------- kernels
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& a,
-                                        const GradientView<>& b, int nf) const {
+double TrustRegion<ExecutionSpace>::dot(const ExecutionSpace& space, SumWorkspace<Mem>& ws, const GradientView<Mem>& a,
+                                        const GradientView<Mem>& b, int nf) const {
   return deterministic_sum(
       space, "nacre::mc::newton::dot", ws, 0, nf,
       KOKKOS_LAMBDA(const int i) { return a(i, 0) * b(i, 0) + a(i, 1) * b(i, 1) + a(i, 2) * b(i, 2); }, over(nf));
 }
 
 template <class ExecutionSpace>
-void TrustRegion<ExecutionSpace>::add_scaled(const ExecutionSpace& space, const GradientView<>& z,
-                                             const GradientView<>& d, double tau, int nf) const {
+void TrustRegion<ExecutionSpace>::add_scaled(const ExecutionSpace& space, const GradientView<Mem>& z,
+                                             const GradientView<Mem>& d, double tau, int nf) const {
   Kokkos::parallel_for(
       "nacre::mc::newton::add_scaled", Kokkos::RangePolicy<ExecutionSpace>(space, 0, nf), KOKKOS_LAMBDA(const int i) {
         for (int k = 0; k < 3; ++k) z(i, k) += tau * d(i, k);
@@ -222,8 +226,8 @@ void TrustRegion<ExecutionSpace>::add_scaled(const ExecutionSpace& space, const 
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumWorkspace<>& ws, const GradientView<>& g,
-                                               int nf) const {
+double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumWorkspace<Mem>& ws,
+                                               const GradientView<Mem>& g, int nf) const {
   if (factor_) {
     precondition_apply(space, g, md_, nf);
     return dot(space, ws, g, md_, nf);
@@ -241,8 +245,8 @@ double TrustRegion<ExecutionSpace>::minv_norm2(const ExecutionSpace& space, SumW
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<>& ws, const Field<double>& e,
-                                                int ni) const {
+double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, SumWorkspace<Mem>& ws,
+                                                const Field<double, Mem>& e, int ni) const {
   const auto own = owned_mask(dist_);  // interfaces summed by their owner only
   const long long owned = owned_interfaces(dist_, ni);
   return 4 * DBL_EPSILON *
@@ -252,9 +256,9 @@ double TrustRegion<ExecutionSpace>::rounding_of(const ExecutionSpace& space, Sum
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, SumWorkspace<>& ws,
-                                                  const InterfaceEvaluator<MemSpace>& ev, const Field<double>& e,
-                                                  const Field<double>& trial, int ni) const {
+double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, SumWorkspace<Mem>& ws,
+                                                  const InterfaceEvaluator<Mem>& ev, const Field<double, Mem>& e,
+                                                  const Field<double, Mem>& trial, int ni) const {
   const auto own = owned_mask(dist_);
   const long long owned = owned_interfaces(dist_, ni);
   return deterministic_sum(
@@ -268,7 +272,7 @@ double TrustRegion<ExecutionSpace>::energy_change(const ExecutionSpace& space, S
 }
 
 template <class ExecutionSpace>
-void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<>& m, double floor_t,
+void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, const Model<Mem>& m, double floor_t,
                                                double floor_r, bool indefinite) {
   brick_trig(space, m, trig_);
   hessian_blocks(space, m, mblk_, trig_);
@@ -294,23 +298,23 @@ void TrustRegion<ExecutionSpace>::precondition(const ExecutionSpace& space, cons
 }
 
 template <class ExecutionSpace>
-double TrustRegion<ExecutionSpace>::residual_now(const ExecutionSpace& space, const GradientView<>& grad, int nf,
+double TrustRegion<ExecutionSpace>::residual_now(const ExecutionSpace& space, const GradientView<Mem>& grad, int nf,
                                                  const ResidualScale& scale) const {
   return max_over(dist_, residual_of(space, grad, nf, scale));
 }
 
 template <class ExecutionSpace>
-void TrustRegion<ExecutionSpace>::halo_rows(const ExecutionSpace& space, const GradientView<>& v) const {
+void TrustRegion<ExecutionSpace>::halo_rows(const ExecutionSpace& space, const GradientView<Mem>& v) const {
   if (dist_) dist_->halo->exchange_rows(space, dist_->comm, v, 3);
 }
 
 template <class ExecutionSpace>
-void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, const Model<>& m, double floor_t,
+void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, const Model<Mem>& m, double floor_t,
                                                    double floor_r) {
   if (!ref_ready_) {
-    Model<> m0 = m;  // the same interfaces, every brick at its reference pose
-    m0.pose = Model<>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::newton::reference_pose")),
-                                static_cast<std::size_t>(m.n_bricks));
+    Model<Mem> m0 = m;  // the same interfaces, every brick at its reference pose
+    m0.pose = typename Model<Mem>::PoseView(Kokkos::view_alloc(space, std::string("nacre::mc::newton::reference_pose")),
+                                            static_cast<std::size_t>(m.n_bricks));
     const auto trig0 = brick_trig(space, m0);
     hessian_blocks(space, m0, mblk_, trig0);
     hessian_slots(space, m0, slots_, mask(), trig0);
@@ -322,8 +326,8 @@ void TrustRegion<ExecutionSpace>::reference_factor(const ExecutionSpace& space, 
 }
 
 template <class ExecutionSpace>
-void TrustRegion<ExecutionSpace>::precondition_apply(const ExecutionSpace& space, const GradientView<>& r,
-                                                     const GradientView<>& y, int nf) const {
+void TrustRegion<ExecutionSpace>::precondition_apply(const ExecutionSpace& space, const GradientView<Mem>& r,
+                                                     const GradientView<Mem>& y, int nf) const {
   if (factor_) {
     space.fence("nacre::mc::newton::solve");
     active_->solve(r, y);
@@ -350,8 +354,8 @@ inline double to_boundary(double zz, double zd, double dd, double radius) {
 
 template <class ExecutionSpace>
 typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::steihaug(
-    const ExecutionSpace& space, const Model<>& m, const GradientView<>& g, double radius, double eta, int max_cg,
-    SumWorkspace<>& ws, const GradientView<>& minv_g) {
+    const ExecutionSpace& space, const Model<Mem>& m, const GradientView<Mem>& g, double radius, double eta, int max_cg,
+    SumWorkspace<Mem>& ws, const GradientView<Mem>& minv_g) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::newton::cg");
   const int nf = m.n_free;
   auto z = step_, r = r_, y = y_, d = d_, hd = hd_;
@@ -422,12 +426,13 @@ typename TrustRegion<ExecutionSpace>::Steihaug TrustRegion<ExecutionSpace>::stei
 }
 
 template <class ExecutionSpace>
-PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const Model<>& m, const ResidualScale& scale,
-                                              const PolishOptions& o, const GradientView<>& grad, Field<double>& e,
-                                              Field<double>& trial, SumWorkspace<>& ws) {
+PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const Model<Mem>& m,
+                                              const ResidualScale& scale, const PolishOptions& o,
+                                              const GradientView<Mem>& grad, Field<double, Mem>& e,
+                                              Field<double, Mem>& trial, SumWorkspace<Mem>& ws) {
   Kokkos::Profiling::ScopedRegion region("nacre::mc::polish_trust_region");
   const int nf = m.n_free, ni = m.n_interfaces;
-  const InterfaceEvaluator<MemSpace> ev(m);
+  const InterfaceEvaluator<Mem> ev(m);
   auto pose = m.pose;
   auto z = step_, save = save_;
   // floors of the preconditioner: a brick's stiffness K (translations) and K l^2 (rotation),
@@ -473,7 +478,7 @@ PolishResult TrustRegion<ExecutionSpace>::run(const ExecutionSpace& space, const
         std::min(kEtaMax, std::max(std::sqrt(gMg) / std::max(g0, 1e-300), 0.5 * o.tolerance / r.residual));
     // (with the factor, minv_norm2 left M^-1 g in md_: CG's first solve)
     const Steihaug cg =
-        steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, factor_ ? md_ : GradientView<>());
+        steihaug(space, m, grad, radius, eta, o.max_inner_iterations, ws, factor_ ? md_ : GradientView<Mem>());
     last_cg_ = cg.iterations;
     last_negative_ = cg.negative;
     const bool boundary = cg.on_boundary;

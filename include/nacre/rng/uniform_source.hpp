@@ -52,6 +52,17 @@ KOKKOS_INLINE_FUNCTION void philox_uniforms(std::uint64_t seed, std::uint64_t st
   }
 }
 
+/// \brief One batch to fill: stream ids and the table, in memory space MS.
+template <class MS>
+struct Batch {
+  using memory_space = MS;
+  StreamIds<MS> streams;
+  UniformTable<MS> u;
+};
+/// \brief A batch in any memory space a backend of this build keeps its models in (the device's
+/// or the host's in a CUDA build with host backends).
+using AnyBatch = PerMemorySpace<Batch>;
+
 /// \brief Host-side handle of a generator. (Virtual dispatch happens once per batch, on the host;
 /// kernels only see the concrete generator.)
 class UniformSource {
@@ -61,10 +72,16 @@ public:
   [[nodiscard]] virtual std::string name() const = 0;
   /// \brief Fill u(i, 0..3) with the uniforms of stream streams(i) at draw index `draw`, on
   /// the backend's instance (asynchronous: fence it before reading u elsewhere); the same bits
-  /// on every backend.
+  /// on every backend. The batch's memory space must be one the backend reaches.
   /// Sources may be stateful (mt-aes) and then require draws to be requested in increasing order
   /// (a repeated draw index is answered identically).
-  virtual void fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) = 0;
+  virtual void fill(const Backend& backend, std::uint64_t draw, const AnyBatch& batch) = 0;
+  /// \brief The same for a table `u` and ids `streams` in one memory space.
+  template <class Ids, class Table>
+  void fill(const Backend& backend, std::uint64_t draw, const Ids& streams, const Table& u) {
+    using MS = typename Table::memory_space;
+    fill(backend, draw, AnyBatch(Batch<MS>{StreamIds<MS>(streams), u}));
+  }
   /// \brief The same on the default backend.
   void fill(std::uint64_t draw, StreamIds<> streams, UniformTable<> u) { fill(Backend{}, draw, streams, u); }
 };
@@ -74,10 +91,10 @@ public:
 
 /// \brief u(i, 0..3) = the Philox uniforms of stream streams(i) at draw `draw` under key `seed`,
 /// on `space` (PhiloxSource::fill; any execution space that reaches the views).
-template <class ExecutionSpace>
-void philox_fill(const ExecutionSpace& space, std::uint64_t seed, std::uint64_t draw, StreamIds<> streams,
-                 UniformTable<> u) {
-  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MemSpace>::accessible);
+template <class ExecutionSpace, class MS>
+void philox_fill(const ExecutionSpace& space, std::uint64_t seed, std::uint64_t draw, StreamIds<MS> streams,
+                 UniformTable<MS> u) {
+  static_assert(Kokkos::SpaceAccessibility<ExecutionSpace, MS>::accessible);
   Kokkos::parallel_for(
       "nacre::rng::philox_fill", Kokkos::RangePolicy<ExecutionSpace>(space, 0, streams.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
@@ -94,7 +111,7 @@ public:
   explicit PhiloxSource(std::uint64_t seed) : seed_(seed) {}
   [[nodiscard]] std::string name() const override { return "philox"; }
   using UniformSource::fill;
-  void fill(const Backend& backend, std::uint64_t draw, StreamIds<> streams, UniformTable<> u) override;
+  void fill(const Backend& backend, std::uint64_t draw, const AnyBatch& batch) override;
   /// \brief The key (for callers that generate the same numbers in place: philox_uniforms).
   [[nodiscard]] std::uint64_t seed() const { return seed_; }
 
