@@ -55,7 +55,7 @@ std::pair<double, double> gradient_vs_fd(mc::Solver& solver) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p);
     h(b, c) = v;
     Kokkos::deep_copy(p, h);
-    solver.backend().visit([&](const auto& space) { mc::refresh_frames(space, m); });
+    solver.backend().visit_in<MemSpace>([&](const auto& space) { mc::refresh_frames(space, m); });
   };
   for (int b = 0; b < m.n_free; ++b)
     for (int c = 0; c < 3; ++c) {

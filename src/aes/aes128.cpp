@@ -134,7 +134,7 @@ void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, Mem
 
 void aes128_ecb_encrypt(const Backend& backend, const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
                         Kokkos::View<std::uint8_t*, MemSpace> out) {
-  backend.visit([&](const auto& space) { aes128_ecb_encrypt(space, key, in, out); });
+  backend.visit_in<MemSpace>([&](const auto& space) { aes128_ecb_encrypt(space, key, in, out); });
 }
 
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<std::uint8_t*, MemSpace> inout) {

@@ -1,6 +1,7 @@
-// The dynamic solver behind include/nacre/dyn/simulation.hpp: owns the model and the state,
-// runs initial_integrate / interface force / final_integrate per step, keeps the energy books,
-// and catches blow-ups.
+// The dynamic solver behind include/nacre/dyn/simulation.hpp: owns the model and the state (ImplIn<Mem>,
+// in the memory space of the backend the run is built for: one binary runs on a CUDA build's
+// device and its host backends), runs initial_integrate / interface force / final_integrate per
+// step, keeps the energy books, and catches blow-ups.
 //
 // Checks (advance, critical_step; docs/dynamics.md "Stability monitor"): after every kCheckEvery
 // steps (and after every step while locating a failure) the state is unstable when

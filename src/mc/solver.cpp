@@ -114,7 +114,7 @@ void SolverOn<Exec>::setup(const geometry::Specimen& s, const geometry::Interfac
   if (comm.size() > 1) {
     dist_ = distribute(space_, comm, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points, m_);
   } else {
-    m_ = build_model(Backend(space_), s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
+    m_ = build_model(space_, s, f, adj, c, cfg_.mortar, cfg_.mc.quadrature_points);
   }
   allocate_work();
   const std::string& pc = cfg_.mc.newton_preconditioner;

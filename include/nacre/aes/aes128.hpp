@@ -32,8 +32,8 @@ void aes128_ecb_encrypt(const ExecSpace& space, const Key128& key,
 void aes128_ecb_encrypt(const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
                         Kokkos::View<std::uint8_t*, MemSpace> out);
 
-/// \brief aes128_ecb_encrypt on a backend chosen at run time (core/backend.hpp: every backend of
-/// the build that reaches the default memory space).
+/// \brief aes128_ecb_encrypt on a backend chosen at run time that reaches the default memory space
+/// (core/backend.hpp; std::logic_error on one that does not: a host backend of a CUDA build).
 void aes128_ecb_encrypt(const Backend& backend, const Key128& key, Kokkos::View<const std::uint8_t*, MemSpace> in,
                         Kokkos::View<std::uint8_t*, MemSpace> out);
 

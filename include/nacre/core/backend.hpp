@@ -139,7 +139,8 @@ public:
   /// \brief True when this backend's kernels reach memory space Mem.
   template <class Mem>
   [[nodiscard]] bool reaches() const {
-    return visit([](const auto& e) { return Kokkos::SpaceAccessibility<std::decay_t<decltype(e)>, Mem>::accessible; });
+    return visit(
+        [](const auto& e) -> bool { return Kokkos::SpaceAccessibility<std::decay_t<decltype(e)>, Mem>::accessible; });
   }
   /// \brief visit() for data that lives in memory space Mem: f is instantiated only for the
   /// spaces that reach Mem; on another backend std::logic_error (callers check reaches<Mem>()
