@@ -152,8 +152,9 @@ for r in rows:
           + (f'  rng {r["rng_gbit_per_s"]:.3g} Gbit/s' if r["rng_gbit_per_s"] else ""))
 for k, v in summary["bie_speedup_ratio500"].items():
     print("BIE speed-up at ratio 500,", k, {m: round(x, 2) for m, x in v.items()})
-bad = [k for k, v in summary["agreement"].items() if v != "bit-identical"]
-print("agreement:", "bit-identical everywhere" if not bad else "DIFFERS in " + ", ".join(bad))
+bad = [k for k, v in summary["agreement"].items() if v == "differs"]
+print("agreement:", "as nacre promises everywhere (bit-identical on the host, the device within the "
+      "tolerance or, for Monte Carlo cycles, not judged)" if not bad else "DIFFERS in " + ", ".join(bad))
 PY
 say "done: $out (bench_all.csv, summary.json, one folder per bench)"
 if [ ${#failed[@]} -gt 0 ]; then say "FAILED: ${failed[*]} (their bench.log says why)"; exit 1; fi

@@ -54,7 +54,9 @@ def main():
         note += f", {100 * fma:.0f}% of FMA" if fma else ""
         if e.get("rng_gbit_per_s"):
             note += f"\nrng {e['rng_gbit_per_s']:.3g} Gbit/s"
-        note += "\n" + ("bit-identical" if e.get("bit_identical_to_" + names[0], False) else "DIFFERS")
+        note += "\n" + ("bit-identical" if e.get("bit_identical_to_" + names[0], False)
+                        else "not judged" if not e.get("agreement_judged", True)
+                        else "within tolerance" if e.get("agrees", False) else "DIFFERS")
         ax2.text(i, thr[i], note, ha="center", va="bottom", fontsize=8)
     ax2.set_ylim(0, 1.25 * max(thr))  # room for the notes above the bars
     ax2.set_ylabel("brick-steps per second" if j["solver"] == "dynamics" else "brick trials per second")
