@@ -19,11 +19,13 @@ std::string physics_text(const deck::Deck& d) {
 }
 
 void check_restart_backend(const std::string& checkpoint_path, const std::string& written_on, const std::string& here) {
-  if (written_on.empty() || Backend::bit_compatible(here, written_on)) return;
-  throw io::CheckpointError(checkpoint_path + ": written on " + written_on + ", whose results are not bit for bit " +
-                            here + "'s (a device's arithmetic differs from the host's), so the run would not " +
-                            "continue as it began; restart it with --backend " + written_on + ", or start afresh on " +
-                            here);
+  // (a checkpoint older than the record was written on the build's default backend: its
+  // fingerprint names the build's default space)
+  const std::string on = written_on.empty() ? Backend::names().front() : written_on;
+  if (Backend::bit_compatible(here, on)) return;
+  throw io::CheckpointError(checkpoint_path + ": written on " + on + ", whose results are not bit for bit " + here +
+                            "'s (a device's arithmetic differs from the host's), so the run would not " +
+                            "continue as it began; restart it with --backend " + on + ", or start afresh on " + here);
 }
 
 std::string fingerprint(const std::string& text) {

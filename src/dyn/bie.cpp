@@ -193,7 +193,7 @@ std::size_t bie_bytes(const BieTables<Mem>& b) {
   template BieTables<M> build_bie_tables<M>(const Model<M>&);              \
   template std::size_t bie_bytes<M>(const BieTables<M>&);
 NACRE_DYN_BIE(MemSpace)
-#ifdef KOKKOS_ENABLE_CUDA
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
 NACRE_DYN_BIE(Kokkos::HostSpace)
 #endif
 #undef NACRE_DYN_BIE

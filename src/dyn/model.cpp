@@ -816,7 +816,7 @@ std::size_t model_bytes(const Model<Mem>& m) {
   template void set_model_step<M>(Model<M>&, double);                                                     \
   template std::size_t model_bytes<M>(const Model<M>&);
 NACRE_DYN_MODEL(MemSpace)
-#ifdef KOKKOS_ENABLE_CUDA
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
 NACRE_DYN_MODEL(Kokkos::HostSpace)
 #endif
 #undef NACRE_DYN_MODEL

@@ -200,6 +200,15 @@ Model<> build_model(const Backend& backend, const geometry::Specimen& s, const g
 #ifdef KOKKOS_ENABLE_CUDA
 NACRE_MC_BUILD_MODEL(Kokkos::Cuda)
 #endif
+#ifdef KOKKOS_ENABLE_HIP
+NACRE_MC_BUILD_MODEL(Kokkos::HIP)
+#endif
+#ifdef KOKKOS_ENABLE_SYCL
+NACRE_MC_BUILD_MODEL(Kokkos::SYCL)
+#endif
+#ifdef KOKKOS_ENABLE_THREADS
+NACRE_MC_BUILD_MODEL(Kokkos::Threads)
+#endif
 #ifdef KOKKOS_ENABLE_SERIAL
 NACRE_MC_BUILD_MODEL(Kokkos::Serial)
 #endif

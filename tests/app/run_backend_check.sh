@@ -32,9 +32,9 @@ mapfile -t listed < <("$exe" --backend list)
 backends=(); device=""
 for l in "${listed[@]}"; do
   b="${l%% *}"
-  if [ "$b" = cuda ]; then device="$b"; else backends+=("$b"); fi
+  case "$b" in cuda|hip|sycl) device="$b" ;; *) backends+=("$b") ;; esac
 done
-[ "${#backends[@]}" -ge 1 ] || bad "no host backend listed: ${listed[*]}"
+[ "${#backends[@]}" -ge 1 ] || { bad "no host backend listed: ${listed[*]}"; exit 1; }
 sed 's/^method = "be"/method = "bie"/' "$src/tests/app/tiny_dynamic.toml" > tiny_bie.toml
 for deck in "$src/tests/app/tiny_dynamic.toml" tiny_bie.toml; do
   name=$(basename "$deck" .toml)

@@ -1,7 +1,8 @@
 // The dynamics kernels, written once, run on every backend a run can choose (tests/backends.hpp
 // RunBackends: the host backends of a host build, the device and the host backends of a CUDA
 // build, each with the model in its own memory) and
-// must leave the same bits as on the default execution space: a notched wall driven to rupture,
+// must leave the same bits as on the reference of their kind of arithmetic (RefSpace below: the
+// default space, or the default host space for a CUDA build's host backends): a notched wall driven to rupture,
 // velocity Verlet (BE) per element with the dense (M + h/2 C)^-1 and over the tiles with its
 // diagonal, and BIE's iterated and split steps fused
 // over the tiles and unfused (residual, shared_gemm solve, update), each step's phases launched

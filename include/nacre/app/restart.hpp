@@ -19,7 +19,8 @@ namespace nacre::app {
 /// \brief 16 hex digits (FNV-1a 64) of physics_text.
 [[nodiscard]] std::string fingerprint(const std::string& physics_text);
 
-/// \brief A checkpoint written on backend `written_on` ("": before backends were recorded) may
+/// \brief A checkpoint written on backend `written_on` ("": before backends were recorded, i.e. on
+/// the build's default backend) may
 /// continue on `here` only where the results are the same bits (Backend::bit_compatible: the same
 /// backend, or both on the host); otherwise io::CheckpointError naming both and the way out.
 /// `here` is the run's backend's name (no initialised Kokkos needed: `--check` validates first).
