@@ -1,4 +1,5 @@
 #include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/on_batch.hpp>
 
 #include <stdexcept>
 #include <string>
@@ -136,17 +137,13 @@ AesCtrSource::AesCtrSource(std::uint64_t seed) {
 
 void AesCtrSource::fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::aes_ctr");
-  std::visit(
-      [&](const auto& b) {
-        using MS = typename std::decay_t<decltype(b)>::memory_space;
-        check_extents("aes-ctr", b.streams.extent(0), b.u.extent(0));
-        backend.visit_in<MS>([&](const auto& space) {
-          using E = std::decay_t<decltype(space)>;
-          detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
-                                CtrPlain<MS>{b.streams, draw}, TableSink<rng::UniformTable<MS>>{b.u});
-        });
-      },
-      batch);
+  rng::on_batch(backend, batch, [&](const auto& space, const auto& b) {
+    using E = std::decay_t<decltype(space)>;
+    using MS = typename std::decay_t<decltype(b)>::memory_space;
+    check_extents("aes-ctr", b.streams.extent(0), b.u.extent(0));
+    detail::run_bitsliced(space, "nacre::rng::aes_ctr_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
+                          CtrPlain<MS>{b.streams, draw}, TableSink<rng::UniformTable<MS>>{b.u});
+  });
 }
 
 void AesCtrSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {
@@ -203,24 +200,20 @@ void MtAesSource::advance_to(std::uint64_t draw) {
 
 void MtAesSource::fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::mt_aes");
-  std::visit(
-      [&](const auto& b) {
-        using MS = typename std::decay_t<decltype(b)>::memory_space;
-        static_assert(std::is_same_v<MS, MemSpace> || std::is_same_v<MS, Kokkos::HostSpace>);
-        check_extents("mt-aes", b.streams.extent(0), b.u.extent(0));
-        advance_to(draw);  // host MT state, uploaded with a fence
-        Kokkos::View<const std::uint64_t*, MS> table;
-        if constexpr (std::is_same_v<MS, MemSpace>)
-          table = table_;
-        else
-          table = table_host_;
-        backend.visit_in<MS>([&](const auto& space) {
-          using E = std::decay_t<decltype(space)>;
-          detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
-                                MtPlain<MS>{b.streams, table}, TableSink<rng::UniformTable<MS>>{b.u});
-        });
-      },
-      batch);
+  rng::on_batch(backend, batch, [&](const auto& space, const auto& b) {
+    using E = std::decay_t<decltype(space)>;
+    using MS = typename std::decay_t<decltype(b)>::memory_space;
+    static_assert(std::is_same_v<MS, MemSpace> || std::is_same_v<MS, Kokkos::HostSpace>);
+    check_extents("mt-aes", b.streams.extent(0), b.u.extent(0));
+    advance_to(draw);  // host MT state, uploaded with a fence
+    Kokkos::View<const std::uint64_t*, MS> table;
+    if constexpr (std::is_same_v<MS, MemSpace>)
+      table = table_;
+    else
+      table = table_host_;
+    detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
+                          MtPlain<MS>{b.streams, table}, TableSink<rng::UniformTable<MS>>{b.u});
+  });
 }
 
 void MtAesSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTable<> bits) {

@@ -41,6 +41,9 @@ constexpr double kTinyEnergy = 1e-20;
 /// elements below this share of the energy are not watched for growth (rounding-level shares
 /// jump by any factor)
 constexpr double kGrowthFloor = 1e-6;
+/// Outcome of a check: passed, failed one the per-step replay also runs (finite, kinetic bound,
+/// balance), or failed one of the chunk checks only (growth, step bound).
+enum class Health { ok, step_failure, chunk_failure };
 }  // namespace
 
 template <class M>
@@ -358,10 +361,6 @@ struct ImplIn {
     return e.strain + e.kinetic + e.cohesive + e.damping_dissipated - e.external_work - e_in;
   }
 
-  /// Outcome of a check: passed, failed one the per-step replay also runs (finite, kinetic bound,
-  /// balance), or failed one of the chunk checks only (growth, step bound).
-  enum class Health { ok, step_failure, chunk_failure };
-
   /// The checks of the header on the current state; a failure fills `why`. `chunk`: the end of a
   /// step chunk (the growth and step-bound checks run there only).
   Health healthy(bool chunk) {
@@ -537,8 +536,8 @@ bool Simulation::advance(long n) {
       const long start = I.step;
       for (long k = 0; k < chunk; ++k) I.step_once();
       backend.fence();
-      if (const auto h = I.healthy(true); h != std::decay_t<decltype(I)>::Health::ok) {
-        if (h == std::decay_t<decltype(I)>::Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
+      if (const auto h = I.healthy(true); h != Health::ok) {
+        if (h == Health::chunk_failure) {  // only a chunk check (growth, step bound) saw it:
           I.load_copy();  // back to the chunk's start, which passed every check
           I.step = start;
           backend.fence();
@@ -551,7 +550,7 @@ bool Simulation::advance(long n) {
           I.save_copy();
           I.step_once();
           backend.fence();
-          if (I.healthy(false) != std::decay_t<decltype(I)>::Health::ok) {
+          if (I.healthy(false) != Health::ok) {
             I.load_copy();
             --I.step;
             backend.fence();

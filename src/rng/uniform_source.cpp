@@ -1,3 +1,4 @@
+#include <nacre/rng/on_batch.hpp>
 #include <nacre/rng/philox.hpp>
 #include <nacre/rng/uniform_source.hpp>
 
@@ -5,12 +6,7 @@ namespace nacre::rng {
 
 void PhiloxSource::fill(const Backend& backend, std::uint64_t draw, const AnyBatch& batch) {
   Kokkos::Profiling::ScopedRegion region("nacre::rng::philox");
-  std::visit(
-      [&](const auto& b) {
-        using MS = typename std::decay_t<decltype(b)>::memory_space;
-        backend.visit_in<MS>([&](const auto& space) { philox_fill(space, seed_, draw, b.streams, b.u); });
-      },
-      batch);
+  on_batch(backend, batch, [&](const auto& space, const auto& b) { philox_fill(space, seed_, draw, b.streams, b.u); });
 }
 
 }  // namespace nacre::rng
