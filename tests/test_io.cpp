@@ -8,6 +8,7 @@
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/results.hpp>
+#include <nacre/io/state_compare.hpp>
 #include <nacre/mc/output.hpp>
 #include <nacre/mc/solver.hpp>
 
@@ -381,4 +382,64 @@ TEST_CASE("colouring = auto is a fixed rule; fastest times the candidates and ke
   const std::string json = mc::summary_json(b, d, 0, 0.0, fracture::CrackReading{}, 0.0);
   CHECK_THAT(json, ContainsSubstring("\"presimulation_pick\": \"" + b.model().colouring_name + "\""));
   CHECK_THAT(json, ContainsSubstring("\"colouring_rule\": \"fastest\""));
+}
+
+TEST_CASE("two states are compared array by array, each at its own scale", "[io][bench]") {
+  using io::NamedArrays;
+  // a BIE state's shape: displacements near 1e-6 beside accelerations near 1e10
+  const NamedArrays ref{{"u", {1e-6, -2e-6, 0.5e-6}}, {"a", {3e10, -1e10, 2e9}}, {"dacc", {0.0, 0.0}}};
+  SECTION("the same state: bit-identical, no difference, no array named") {
+    const auto d = io::compare_states(ref, ref);
+    CHECK(d.same_layout);
+    CHECK(d.bit_identical);
+    CHECK(d.max_abs == 0);
+    CHECK(d.relative == 0);
+    CHECK(d.worst.empty());
+  }
+  SECTION("a displacement off by 1e-9 is 5e-4 of u's scale, not 3e-20 of the accelerations'") {
+    NamedArrays o = ref;
+    o[0].values[1] += 1e-9;  // u's scale: 2e-6
+    o[1].values[0] += 1e-3;  // a's: 1e-3 / 3e10, far smaller
+    const auto d = io::compare_states(ref, o);
+    CHECK(d.same_layout);
+    CHECK_FALSE(d.bit_identical);
+    CHECK(std::abs(d.max_abs - 1e-3) < 1e-5);  // (3e10 + 1e-3 rounds to a multiple of 2^-12)
+    CHECK(d.worst == "u");
+    CHECK(d.worst_scale == 2e-6);
+    CHECK(std::abs(d.relative - 1e-9 / 2e-6) < 1e-12);
+  }
+  SECTION("an array of zeros is measured against the whole state's largest value") {
+    NamedArrays o = ref;
+    o[2].values[0] = 6.0;
+    const auto d = io::compare_states(ref, o);
+    CHECK(d.worst == "dacc");
+    CHECK(d.worst_scale == 3e10);
+    CHECK(d.relative == 6.0 / 3e10);
+  }
+  SECTION("a NaN is an infinite difference") {
+    NamedArrays o = ref;
+    o[1].values[2] = std::nan("");
+    const auto d = io::compare_states(ref, o);
+    CHECK(std::isinf(d.relative));
+    CHECK(d.worst == "a");
+  }
+  SECTION("another layout (a name or a length) is never within any tolerance") {
+    NamedArrays renamed = ref, shorter = ref;
+    renamed[0].name = "v";
+    shorter[2].values.pop_back();
+    for (const auto& o : {renamed, shorter}) {
+      const auto d = io::compare_states(ref, o);
+      CHECK_FALSE(d.same_layout);
+      CHECK_FALSE(d.bit_identical);
+      CHECK(std::isinf(d.relative));
+    }
+  }
+  SECTION("a state file's values cut back into its arrays") {
+    const auto flat = io::flatten(ref);
+    REQUIRE(flat.size() == 8);
+    NamedArrays back;
+    REQUIRE(io::unflatten(flat, {{"u", 3}, {"a", 3}, {"dacc", 2}}, back));
+    CHECK(io::compare_states(ref, back).bit_identical);
+    CHECK_FALSE(io::unflatten(flat, {{"u", 3}, {"a", 3}}, back));
+  }
 }

@@ -18,10 +18,12 @@
 #include <nacre/app/run_dynamics.hpp>
 #include <nacre/core/backend.hpp>
 #include <nacre/core/flop_count.hpp>
+#include <nacre/core/format.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/io/atomic_file.hpp>
+#include <nacre/io/state_compare.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <CLI/CLI.hpp>
@@ -179,7 +181,7 @@ struct Sample {
   double work = 0;                      ///< brick-steps (dynamics) or brick trials (Monte Carlo)
   double random_bits = 0;               ///< bits the uniform source drew (Monte Carlo: 256 per trial)
   std::map<std::string, double> phase;  ///< region -> seconds
-  std::vector<double> state;            ///< what the agreement check compares
+  io::NamedArrays state;                ///< what the agreement check compares, array by array
   double bytes_per_unit = 0;            ///< Simulation::step_bytes, Solver::cycle_bytes x cycles per unit
   double flops_per_unit = NAN;          ///< Simulation::step_flops, Solver::cycle_flops x cycles per unit
   double dt = 0;                        ///< dynamics: the time step (s)
@@ -207,7 +209,7 @@ Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Sp
     r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
     r.phase = timer.seconds();
   }
-  for (const auto& [name, x] : sim.save_state()) r.state.insert(r.state.end(), x.begin(), x.end());
+  for (auto& [name, x] : sim.save_state()) r.state.push_back({name, std::move(x)});
   return r;
 }
 
@@ -248,28 +250,14 @@ Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen
     r.flops_per_unit = *fc * static_cast<double>(solver.global_cycle()) / static_cast<double>(std::max(1L, r.units));
   std::vector<double> x, y, t;
   solver.poses(x, y, t);
-  r.state = x, r.state.insert(r.state.end(), y.begin(), y.end()), r.state.insert(r.state.end(), t.begin(), t.end());
+  r.state = {{"x", std::move(x)}, {"y", std::move(y)}, {"theta", std::move(t)}};
   return r;
-}
-
-/// Largest |a - b| and whether every bit agrees.
-double largest_magnitude(const std::vector<double>& a) {
-  double m = 0;
-  for (double x : a) m = std::max(m, std::abs(x));
-  return m;
-}
-
-std::pair<double, bool> compare(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size()) return {INFINITY, false};
-  double m = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
-  return {m, std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0};
 }
 
 struct BenchOptions {
   std::string deck, out = "bench", backends;
   std::string compare;         ///< another bench's output directory (another build, e.g. a GPU one)
-  double tolerance = 1e-6;     ///< of --compare: largest |difference| / largest |value|
+  double tolerance = 1e-6;     ///< per array: largest |difference| / the array's largest |value|
   long steps = 0, cycles = 0;  ///< 0: not given (dynamics: 200 steps; Monte Carlo: 20 cycles)
   int repeat = 3;
 };
@@ -298,26 +286,45 @@ nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::order
     if (other.at(key) != mine.at(key))
       throw std::invalid_argument("--compare " + o.compare + ": its " + key + " is " + other.at(key).dump() +
                                   ", this bench's " + mine.at(key).dump() + " (compare the same deck and units)");
-  const std::vector<double> ref = read_state(fs::path(o.compare) / "state.bin");
-  double scale = 0;
-  for (const double x : ref) scale = std::max(scale, std::abs(x));
+  // the arrays the state file holds (bench.json "state_file"."arrays"); a bench written before
+  // the arrays were recorded holds one array, compared at one scale as it was then
+  const std::vector<double> flat = read_state(fs::path(o.compare) / "state.bin");
+  std::vector<std::pair<std::string, std::size_t>> layout;
+  if (const auto& sf = other.value("state_file", nlohmann::ordered_json::object()); sf.contains("arrays"))
+    for (const auto& a : sf.at("arrays"))
+      layout.emplace_back(a.at("name").get<std::string>(), a.at("values").get<std::size_t>());
+  else
+    layout.emplace_back("state", flat.size());
+  io::NamedArrays ref;
+  if (!io::unflatten(flat, layout, ref))
+    throw std::invalid_argument(o.compare + "/state.bin: " + std::to_string(flat.size()) +
+                                " values, not what its bench.json \"state_file\" lists");
   nlohmann::ordered_json c;
   c["directory"] = o.compare;
   c["machine"] = other.at("machine");
   c["reference_backend"] = other.at("backends").begin().key();
   c["tolerance"] = o.tolerance;
+  c["per_array"] = layout.size() > 1;
   within = true;
+  const auto describe = [](const io::NamedArrays& st) {
+    std::string t;
+    for (const auto& a : st) t += (t.empty() ? "" : ", ") + a.name + " " + std::to_string(a.values.size());
+    return t;
+  };
   for (const auto& [name, s] : firsts) {
-    const auto [diff, same] = compare(ref, s->state);
-    const double rel = scale > 0 ? diff / scale : diff;
-    const bool ok = rel <= o.tolerance;
+    const io::NamedArrays mine_state = layout.size() > 1 ? s->state : io::NamedArrays{{"state", io::flatten(s->state)}};
+    const auto d = io::compare_states(ref, mine_state);
+    if (!d.same_layout)  // another deck, or a state saved by another version of nacre
+      throw std::invalid_argument("--compare " + o.compare + ": its state holds " + describe(ref) +
+                                  " values, this bench's " + describe(mine_state) +
+                                  " (compare the same deck, with benches of the same nacre version)");
+    const bool ok = d.relative <= o.tolerance;
     within = within && ok;
-    c["backends"][name] = {{"max_difference", diff}, {"relative", rel}, {"bit_identical", same}, {"within", ok}};
-    std::printf("%-8s against %s (%s): max |diff| %.3g, relative %.3g: %s\n", name.c_str(), o.compare.c_str(),
-                c["reference_backend"].get<std::string>().c_str(), diff, rel,
-                same ? "bit-identical"
-                : ok ? "within the tolerance"
-                     : "BEYOND the tolerance");
+    c["backends"][name] = {{"max_difference", d.max_abs},
+                           {"relative", d.relative},
+                           {"largest_relative_in", d.worst},
+                           {"bit_identical", d.bit_identical},
+                           {"within", ok}};
   }
   return c;
 }
@@ -328,8 +335,20 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                 const std::vector<Backend>& backends, const std::vector<Bounds>& bounds,
                 const std::vector<Sample>& samples) {
   namespace fs = std::filesystem;
-  fs::create_directories(o.out);
   const std::string unit = dynamic ? "step" : o.steps > 0 ? "load_step" : "cycle";
+  // --compare first: a reference that does not fit (another deck, units or layout) is refused
+  // before any file is written
+  bool within = true;
+  nlohmann::ordered_json compared;
+  if (!o.compare.empty()) {
+    std::vector<std::pair<std::string, const Sample*>> firsts;
+    for (const auto& b : backends)
+      firsts.emplace_back(b.name(), &*std::find_if(samples.begin(), samples.end(),
+                                                   [&](const Sample& s) { return s.backend == b.name(); }));
+    compared = compare_with(o, {{"bricks", bricks}, {"unit", unit}, {"units_per_repeat", samples.front().units}},
+                            firsts, within);
+  }
+  fs::create_directories(o.out);
   const char* work = dynamic ? "brick-steps/s" : "trials/s";
   std::ostringstream csv;
   csv.precision(9);
@@ -394,15 +413,18 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     const double rng_gbits = b->random_bits > 0 && rng_phase != b->phase.end() && rng_phase->second > 0
                                  ? b->random_bits / rng_phase->second / 1e9
                                  : NAN;
-    const auto [diff, same] = compare(r0->state, f->state);
+    const auto vs0 = io::compare_states(r0->state, f->state);
+    const double diff = vs0.max_abs;
+    const bool same = vs0.bit_identical;
     // bit for bit where nacre promises it: against the first listed backend of the same kind of
     // arithmetic (host backends among themselves, whatever the order); a backend of another kind
     // than the first within --tolerance of the largest |value| (a device against the host)
     std::size_t kin = 0;
     while (!backends[kin].bit_compatible(backends[k].name())) ++kin;
     const bool bits_promised = kin < k || k == 0;
-    const bool same_as_kin = compare(first(kin)->state, f->state).second;
-    const double rel = diff / std::max(largest_magnitude(r0->state), 1e-300);
+    const bool same_as_kin = io::compare_states(first(kin)->state, f->state).bit_identical;
+    // array by array, each against its own largest |value| (io/state_compare.hpp)
+    const double rel = vs0.relative;
     // raw Monte Carlo cycles on another kind of arithmetic take another path (the first
     // differently rounded acceptance branches it): reported, not judged; converged load steps
     // (--steps) and dynamics are judged against --tolerance (docs/gpu.md gives each deck's)
@@ -410,7 +432,8 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     const bool agrees = bits_promised ? same_as_kin : !judged || rel <= o.tolerance;
     bool repeats_same = true;
     for (const auto& s : samples)
-      if (s.backend == backends[k].name()) repeats_same = repeats_same && compare(f->state, s.state).second;
+      if (s.backend == backends[k].name())
+        repeats_same = repeats_same && io::compare_states(f->state, s.state).bit_identical;
     auto& e = j["backends"][backends[k].name()];
     e["execution_space"] = backends[k].kokkos_name();
     e["threads"] = backends[k].concurrency();
@@ -431,6 +454,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     e["bit_identity_promised"] = bits_promised;
     e["bit_identical_to"] = backends[kin].name();  // the first listed backend of its kind of arithmetic
     e["relative_difference"] = rel;
+    e["largest_relative_in"] = vs0.worst;
     e["agreement_judged"] = judged;
     e["agrees"] = agrees;
     e["repeats_bit_identical"] = repeats_same;
@@ -442,9 +466,10 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
         : !judged ? std::string("another path (Monte Carlo cycles on other arithmetic: not judged)")
         : agrees  ? std::string("within tolerance")
                   : std::string("DIFFERS");
-    std::printf("%-8s %8d %14.6g %16.4g %9.3f %9.1f%% %9.1f%%  %s (max |diff| %.3g)%s\n", backends[k].name().c_str(),
+    const std::string where = vs0.worst.empty() ? "" : ", relative " + format_real(rel, 3) + " in " + vs0.worst;
+    std::printf("%-8s %8d %14.6g %16.4g %9.3f %9.1f%% %9.1f%%  %s (max |diff| %.3g%s)%s\n", backends[k].name().c_str(),
                 backends[k].concurrency(), per, thr, speedup, 100 * of_triad, 100 * of_fma, verdict.c_str(), diff,
-                repeats_same ? "" : "; repeats differ");
+                where.c_str(), repeats_same ? "" : "; repeats differ");
     if (!std::isnan(rng_gbits))
       std::printf("%-8s uniform source (%s): %.3g Gbit/s\n", "", d.solver.rng.c_str(), rng_gbits);
   }
@@ -461,15 +486,23 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                    : !all_judged ? "not judged across arithmetic (Monte Carlo cycles)"
                                  : "within tolerance";
   j["tolerance"] = o.tolerance;
-  const auto& state = first(0)->state;
+  const auto state = io::flatten(first(0)->state);
   io::write_file_atomic(fs::path(o.out) / "state.bin",
                         std::string(reinterpret_cast<const char*>(state.data()), state.size() * sizeof(double)));
   j["state_file"] = {{"name", "state.bin"}, {"values", state.size()}, {"backend", backends[0].name()}};
-  bool within = true;
+  for (const auto& a : first(0)->state)
+    j["state_file"]["arrays"].push_back({{"name", a.name}, {"values", a.values.size()}});
   if (!o.compare.empty()) {
-    std::vector<std::pair<std::string, const Sample*>> firsts;
-    for (std::size_t k = 0; k < backends.size(); ++k) firsts.emplace_back(backends[k].name(), first(k));
-    j["compared_to"] = compare_with(o, j, firsts, within);
+    j["compared_to"] = compared;
+    for (const auto& [name, c] : compared.at("backends").items()) {
+      const std::string in = c.at("largest_relative_in").get<std::string>();
+      std::printf("%-8s against %s (%s): max |diff| %.3g, relative %.3g%s: %s\n", name.c_str(), o.compare.c_str(),
+                  compared.at("reference_backend").get<std::string>().c_str(), c.at("max_difference").get<double>(),
+                  c.at("relative").get<double>(), in.empty() ? "" : (" (in " + in + ")").c_str(),
+                  c.at("bit_identical").get<bool>() ? "bit-identical"
+                  : c.at("within").get<bool>()      ? "within the tolerance"
+                                                    : "BEYOND the tolerance");
+    }
   }
   io::write_file_atomic(fs::path(o.out) / "bench.json", j.dump(2) + "\n");
   std::cout << "nacre bench: results in " << o.out << "/ (bench.csv, bench.json, bench.png)\n";
@@ -549,8 +582,8 @@ int bench_main(int argc, char* argv[]) {
                  "another bench's output directory (e.g. a CUDA build's): each backend's result against its state.bin")
       ->check(CLI::ExistingDirectory);
   cli.add_option("--tolerance", o.tolerance,
-                 "largest |difference| over the largest |value| between a device and the host, and of --compare "
-                 "(default 1e-6)")
+                 "between a device and the host, and of --compare: per state array (u, v, a... or x, y, theta), its "
+                 "largest |difference| over its largest |value| (default 1e-6)")
       ->check(CLI::PositiveNumber);
   if (const int rc = parse_command_line(cli, app_args, [] {}); rc >= 0) return rc;
   kokkos_args.push_back(nullptr);

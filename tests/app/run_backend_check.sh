@@ -17,7 +17,8 @@
 #     bench.json and bench.png written, every backend timed with its phases (the solver's regions),
 #     its triad and FMA bounds, and the agreement check "bit-identical"; a bad backend exits 2;
 #     --compare against another bench's state: the same state passes, another seed fails (exit 1)
-#     beyond a tight tolerance, another deck is refused (exit 2);
+#     beyond a tight tolerance, another deck is refused (exit 2); the comparison is per array (u
+#     moved alone is caught in u), and a reference of another layout is refused writing nothing;
 #  6. (a CUDA build) the device runs both families; its checkpoint is refused on a host backend.
 #   run_backend_check.sh NACRE_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -156,6 +157,34 @@ fi
 sed 's/^seed = 5/seed = 6/' tiny_aes.toml > tiny_aes6.toml
 expect 1 "beyond the tolerance" "$exe" bench tiny_aes6.toml --steps 2 --repeat 1 --backends "$hostlist" --compare bench_aes --tolerance 1e-300 -o bench_cmp6
 expect 2 "compare the same deck and units" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 5 --repeat 1 --compare bench_aes -o bench_cmp_dyn
+# per array: a reference whose displacements (u) alone are moved by 1e-4 of their own largest
+# value is beyond a tolerance of 1e-5, named "u", though the move is far below 1e-5 of the
+# state's largest value (the accelerations); a reference with another array layout is refused
+# (exit 2) before anything is written
+mkdir -p bench_dyn_u bench_dyn_layout
+python3 - <<'PY' || bad "could not write the moved references"
+import json, struct
+j = json.load(open("bench_dyn/bench.json"))
+flat = list(struct.unpack(f"{j['state_file']['values']}d", open("bench_dyn/state.bin", "rb").read()))
+at, arrays = 0, {}
+for a in j["state_file"]["arrays"]:
+    arrays[a["name"]] = (at, a["values"]); at += a["values"]
+u0, nu = arrays["u"]
+scale = max(abs(x) for x in flat[u0:u0 + nu])
+assert scale > 0 and scale < 1e-4 * max(abs(x) for x in flat), (scale, max(abs(x) for x in flat))
+k = max(range(u0, u0 + nu), key=lambda i: abs(flat[i]))
+flat[k] += 1e-4 * scale
+for d, js in (("bench_dyn_u", j), ("bench_dyn_layout", dict(j, state_file=dict(j["state_file"], arrays=j["state_file"]["arrays"][::-1])))):
+    open(f"{d}/state.bin", "wb").write(struct.pack(f"{len(flat)}d", *flat))
+    json.dump(js, open(f"{d}/bench.json", "w"))
+PY
+expect 1 "beyond the tolerance" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 1 --backends "$last" \
+  --compare bench_dyn_u --tolerance 1e-5 -o bench_cmp_u
+python3 -c "import json,sys; c=json.load(open('bench_cmp_u/bench.json'))['compared_to']['backends']['$last']; sys.exit(not (c['largest_relative_in'] == 'u' and 5e-5 < c['relative'] < 2e-4))" \
+  && ok "bench --compare: a move of 1e-4 in u alone is caught in u" || bad "bench --compare per array: $(grep -o '"largest_relative_in.*' bench_cmp_u/bench.json | head -2)"
+expect 2 "its state holds" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 50 --repeat 1 --backends "$last" \
+  --compare bench_dyn_layout -o bench_cmp_layout
+[ ! -e bench_cmp_layout ] && ok "bench --compare: a refused reference leaves no output" || bad "bench_cmp_layout written"
 # a device (a CUDA build on a GPU machine): it runs both families, and its checkpoint is refused on
 # the host (their arithmetic differs) naming the backend to continue on
 if [ -n "$device" ]; then
