@@ -329,3 +329,30 @@ TEST_CASE("the energy of a segment counted on Counted: exact counts, the double'
   CHECK(p.flops() > n.flops());
   CHECK(p.div == 1);  // the penalty's one quotient
 }
+
+TEST_CASE("segment integral: finite and zero for the subnormal gaps ahead of a wave front", "[cohesive][quadrature]") {
+  // the gap that stopped a 98,603-brick BE run at step 72 (its penalty's a^7 and (a - a') x1^4
+  // both underflowed: 0 / 0), with the run's law (k 7000, x1 0.002, x2 0.004) and length
+  const Law mortar{7000.0, 0.002, 0.004};
+  const Gap front{
+      -1.3861505759722013e-319, -3.0223873005563248e-318, 1.0869444208507424e-322, -7.9050503334599447e-322, 1.0, -0.0};
+  const double e = integrate(EnergyTag{}, mortar, front, 0.030000000000000249);
+  CHECK(std::isfinite(e));
+  CHECK(std::abs(e) < 1e-290);
+  const EndForces f = integrate(TractionTag{}, mortar, front, 0.030000000000000249);
+  CHECK((std::isfinite(f.f0x) && std::isfinite(f.f0y) && std::isfinite(f.f1x) && std::isfinite(f.f1y)));
+  // every scale from normal down to the smallest subnormal, no, one or both ends penetrating: the
+  // energy finite and >= 0, the forces finite
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double scale = 1e-20; scale > 4e-324; scale *= 1e-4)
+    for (int k = 0; k < 200; ++k) {
+      const Gap g{scale * u(rng), scale * u(rng), scale * u(rng), scale * u(rng), 1.0, 0.0};
+      const double eg = integrate(EnergyTag{}, mortar, g, 0.03);
+      INFO("scale " << scale << " gap " << g.g0x << " " << g.g0y << " " << g.g1x << " " << g.g1y);
+      CHECK(std::isfinite(eg));
+      CHECK(eg >= 0.0);
+      const EndForces fg = integrate(TractionTag{}, mortar, g, 0.03);
+      CHECK((std::isfinite(fg.f0x) && std::isfinite(fg.f0y) && std::isfinite(fg.f1x) && std::isfinite(fg.f1y)));
+    }
+}

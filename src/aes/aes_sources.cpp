@@ -193,9 +193,15 @@ void MtAesSource::advance_to(std::uint64_t draw) {
         for (int k = 0; k < 4; ++k) t[4 * m + k] = w[2 * k] | (w[2 * k + 1] << 32);
       });
   Kokkos::DefaultHostExecutionSpace().fence();
-  Kokkos::deep_copy(table_, table_host_);
+  device_stale_ = table_.data() != table_host_.data();  // uploaded when a default-memory fill needs it
   have_draw_ = true;
   last_draw_ = draw;
+}
+
+const Kokkos::View<std::uint64_t*, MemSpace>& MtAesSource::device_table() {
+  if (device_stale_) Kokkos::deep_copy(table_, table_host_);  // (a fence: the kernels that read it follow)
+  device_stale_ = false;
+  return table_;
 }
 
 void MtAesSource::fill(const Backend& backend, std::uint64_t draw, const rng::AnyBatch& batch) {
@@ -205,12 +211,12 @@ void MtAesSource::fill(const Backend& backend, std::uint64_t draw, const rng::An
     using MS = typename std::decay_t<decltype(b)>::memory_space;
     static_assert(std::is_same_v<MS, MemSpace> || std::is_same_v<MS, Kokkos::HostSpace>);
     check_extents("mt-aes", b.streams.extent(0), b.u.extent(0));
-    advance_to(draw);  // host MT state, uploaded with a fence
+    advance_to(draw);  // host MT state
     Kokkos::View<const std::uint64_t*, MS> table;
     if constexpr (std::is_same_v<MS, MemSpace>)
-      table = table_;
+      table = device_table();
     else
-      table = table_host_;
+      table = table_host_;  // a host backend reads the host's table: nothing is uploaded
     detail::run_bitsliced(space, "nacre::rng::mt_aes_fill", masks_for<E>(masks_), 2 * b.streams.extent(0),
                           MtPlain<MS>{b.streams, table}, TableSink<rng::UniformTable<MS>>{b.u});
   });
@@ -221,7 +227,7 @@ void MtAesSource::fill_bits(std::uint64_t draw, rng::StreamIds<> streams, BitsTa
   check_extents("mt-aes", streams.extent(0), bits.extent(0));
   advance_to(draw);
   detail::run_bitsliced(ExecSpace(), "nacre::rng::mt_aes_bits", masks_for<ExecSpace>(masks_), 2 * streams.extent(0),
-                        MtPlain<>{streams, table_}, TableSink<BitsTable<>>{bits});
+                        MtPlain<>{streams, device_table()}, TableSink<BitsTable<>>{bits});
 }
 
 void MtAesSource::fill_plain_bits(std::uint64_t draw, rng::StreamIds<> streams,
@@ -229,7 +235,7 @@ void MtAesSource::fill_plain_bits(std::uint64_t draw, rng::StreamIds<> streams,
   check_extents("mt-aes", streams.extent(0), bits.extent(0));
   advance_to(draw);
   Kokkos::parallel_for("nacre::rng::mt_plain_bits", Kokkos::RangePolicy<ExecSpace>(0, 2 * streams.extent(0)),
-                       PlainCopy{MtPlain<>{streams, table_}, bits});
+                       PlainCopy{MtPlain<>{streams, device_table()}, bits});
 }
 
 std::unique_ptr<rng::UniformSource> make_mt_aes_source(std::uint64_t seed) {

@@ -99,10 +99,14 @@ private:
   void advance_to(std::uint64_t draw);
   SpaceMasks masks_;
   std::vector<std::mt19937> mt_;
+  /// table_, uploaded first when the host's table moved since (a device build; else the same view)
+  const Kokkos::View<std::uint64_t*, MemSpace>& device_table();
   // kMtStreams x 4 (2 blocks of 2 x 64 bits), filled on the host; table_ is its copy in the
-  // default memory space (the same view in a host build), which backends on the host do not read
+  // default memory space (the same view in a host build), which backends on the host do not
+  // read, so a host backend's run of a device build never uploads it
   Kokkos::View<std::uint64_t*, Kokkos::HostSpace> table_host_;
   Kokkos::View<std::uint64_t*, MemSpace> table_;
+  bool device_stale_ = false;
   bool have_draw_ = false;
   std::uint64_t last_draw_ = 0;
 };
