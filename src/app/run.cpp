@@ -566,10 +566,9 @@ int main(int argc, char* argv[]) {
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
-    if (critical) return print_critical_step(d, opt.quiet);
-    if (d.dynamics.enabled)
-      return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart,
-                              opt.backend.empty() ? Backend{} : Backend::parse(opt.backend), comm});
+    const Backend backend = opt.backend.empty() ? Backend{} : Backend::parse(opt.backend);
+    if (critical) return print_critical_step(d, opt.quiet, backend);
+    if (d.dynamics.enabled) return run_dynamics(d, {opt.quiet, opt.tty, opt.extend, opt.restart, backend, comm});
     return run_deck(d, opt, comm);
   } catch (const deck::DeckError& e) {  // (on several ranks each says it: an abort may end rank 0 first)
     std::cerr << "\nnacre: error" << on_rank(comm) << ": " << e.what() << "\n";

@@ -148,20 +148,23 @@ bool estimate_bounds_step(const dyn::Params& p) {
 
 /// The stability monitor's estimate of the critical step at the start (monitor.hpp StepBound),
 /// and the elements it scaled: a Simulation built at the model's own start estimate.
-dyn::StepReport estimated_step(const dyn::Params& p, const Setup& s, const deck::Deck& d) {
+dyn::StepReport estimated_step(const Backend& backend, const dyn::Params& p, const Setup& s, const deck::Deck& d) {
   Kokkos::Profiling::ScopedRegion region("nacre::app::estimated_step");
   dyn::Params q = p;
   if (!(q.dt > 0)) q.dt = 1e-9;  // any positive step: the bound does not depend on it
-  dyn::Simulation sim(q, s.specimen, s.interfaces, d.mortar);
+  dyn::Simulation sim(backend, q, s.specimen, s.interfaces, d.mortar);
   return sim.step_check();
 }
 
-int print_critical_step(const deck::Deck& d, bool quiet) {
+int print_critical_step(const deck::Deck& d, bool quiet, const Backend& backend) {
   const Setup s = build(d);
   dyn::Params p = dynamics_params(d, s.specimen.size());
   p.dt = 0;
-  const dyn::StepReport est = estimated_step(p, s, d);
-  const double h = dyn::critical_step(p, s.specimen, s.interfaces, d.mortar, critical_trial_steps, critical_rtol);
+  // on the backend the run would take (its arithmetic: a device's bisection may end a bit
+  // elsewhere than the host's)
+  const dyn::StepReport est = estimated_step(backend, p, s, d);
+  const double h =
+      dyn::critical_step(backend, p, s.specimen, s.interfaces, d.mortar, critical_trial_steps, critical_rtol);
   if (!std::isfinite(h) || h <= 0 || !(est.estimate > 0)) {
     std::cerr << "nacre: error: critical step search failed (bisected " << h << ", estimated " << est.estimate << ")\n";
     return 1;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The run-time backend choice (`--backend`, include/nacre/core/backend.hpp) through the app:
-#  1. `nacre --backend list` names this build's backends, the default first;
+#  1. `nacre --backend list` names this build's backends, the default first; `--critical-step`
+#     runs on the backend asked for (the same step on every host backend);
 #  2. the small dynamic deck, BE and BIE, run on every listed backend: series.csv identical in
 #     every column but seconds (nacre promises the same bits on every host backend), and
 #     summary.json names the backend it ran on;
@@ -37,6 +38,19 @@ for l in "${listed[@]}"; do
 done
 [ "${#backends[@]}" -ge 1 ] || { bad "no host backend listed: ${listed[*]}"; exit 1; }
 sed 's/^method = "be"/method = "bie"/' "$src/tests/app/tiny_dynamic.toml" > tiny_bie.toml
+# --critical-step on the backend asked for: the same bisected step on every host backend (and,
+# where a device is listed, a finite step there too)
+crit=()
+for b in "${backends[@]}" $device; do
+  crit+=("$("$exe" "$src/tests/app/tiny_dynamic.toml" --critical-step -q --backend "$b" 2> "crit_$b.txt")")
+done
+python3 - "${#backends[@]}" "${crit[@]}" <<'PY' && ok "--critical-step --backend: ${crit[*]}" || bad "--critical-step per backend: ${crit[*]} $(cat crit_*.txt | head -3)"
+import math, sys
+n, steps = int(sys.argv[1]), [float(x) for x in sys.argv[2:]]
+assert all(math.isfinite(h) and h > 0 for h in steps), steps
+assert len(set(steps[:n])) == 1, steps
+PY
+expect 2 "not a backend of this build" "$exe" "$src/tests/app/tiny_dynamic.toml" --critical-step --backend no-such
 for deck in "$src/tests/app/tiny_dynamic.toml" tiny_bie.toml; do
   name=$(basename "$deck" .toml)
   for b in "${backends[@]}"; do

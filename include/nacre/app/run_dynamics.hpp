@@ -39,6 +39,6 @@ struct DynRunOptions {
 int run_dynamics(const deck::Deck& d, const DynRunOptions& opt);
 
 /// \brief Print the largest stable step of the deck's method (bisection, dyn::critical_step).
-int print_critical_step(const deck::Deck& d, bool quiet);
+int print_critical_step(const deck::Deck& d, bool quiet, const Backend& backend = {});
 
 }  // namespace nacre::app
