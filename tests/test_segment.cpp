@@ -356,3 +356,25 @@ TEST_CASE("segment integral: finite and zero for the subnormal gaps ahead of a w
       CHECK((std::isfinite(fg.f0x) && std::isfinite(fg.f0y) && std::isfinite(fg.f1x) && std::isfinite(fg.f1y)));
     }
 }
+
+TEST_CASE("segment integral: finite where the gap barely changes along the segment, at every branch",
+          "[cohesive][quadrature]") {
+  // g1 = g0 + a tiny step (an almost rigid shift of the two sides): every piece's end values and
+  // lengths near the underflow, on the elastic, plateau, softening and ruptured branches and
+  // across dn = 0
+  const Law mortar{7000.0, 0.002, 0.004};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double big : {0.0, 1e-3, 2.5e-3, 5e-3, 1e-2})
+    for (double step = 1e-6; step > 4e-324; step *= 1e-5)
+      for (int k = 0; k < 100; ++k) {
+        const double gx = big * u(rng), gy = big * u(rng);
+        const Gap g{gx, gy, gx + step * u(rng), gy + step * u(rng), u(rng), u(rng)};
+        const double e = integrate(EnergyTag{}, mortar, g, 0.03);
+        INFO("gap " << g.g0x << " " << g.g0y << " " << g.g1x << " " << g.g1y << " normal " << g.nx << " " << g.ny);
+        CHECK(std::isfinite(e));
+        CHECK(e >= 0.0);
+        const EndForces f = integrate(TractionTag{}, mortar, g, 0.03);
+        CHECK((std::isfinite(f.f0x) && std::isfinite(f.f0y) && std::isfinite(f.f1x) && std::isfinite(f.f1y)));
+      }
+}
