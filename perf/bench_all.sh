@@ -62,10 +62,23 @@ import math, re, sys
 src, n, method = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 text = open(src).read()
 s = math.sqrt(n / 2100.0) if n > 0 else 1.0
-def scale(key, text):
-    return re.sub(rf"^{key} = ([0-9.eE+-]+)", lambda m: f"{key} = {float(m.group(1)) * s:.6g}", text, flags=re.M)
-for key in ("width", "height", "notch_length"):
-    text = scale(key, text)
+def value(key):
+    return float(re.search(rf"^{key} = ([0-9.eE+-]+)", text, flags=re.M).group(1))
+def scale(key, text, unit=None):
+    # the README deck's shape kept: the width in whole bricks, the height in an even number of
+    # rows (the notch at mid-height on a bed joint). Scaled by s alone, the edge cut slivers and
+    # the notch halved the bricks it crossed, and the smallest piece set the explicit methods'
+    # step: BE's was 1.4e-10 s at 100k bricks (485 slivers), 1.15e-9 s at 1M, 2.9e-9 s with
+    # whole bricks, so BIE's speed-up over BE depended on where the edge and the notch fell
+    def new(m):
+        x = float(m.group(1)) * s
+        if unit:
+            x = max(1, round(x / unit)) * unit
+        return f"{key} = {x:.10g}"
+    return re.sub(rf"^{key} = ([0-9.eE+-]+)", new, text, flags=re.M)
+text = scale("width", text, value("brick_width"))
+text = scale("height", text, 2 * value("brick_height"))
+text = scale("notch_length", text)
 text = re.sub(r'^method = "\w+"', f'method = "{method}"', text, flags=re.M)
 if method != "bie":  # the explicit methods at 0.9 of their own critical step (the run's estimate)
     text = re.sub(r"^bie_solve = .*\n", "", text, flags=re.M)
