@@ -10,6 +10,7 @@
 #include <cstring>
 #include <cmath>
 #include <unordered_map>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -133,9 +134,15 @@ void add_elements(Build<Mem>& B) {
   const bool ue = B.ue;
   const Material& mat = B.mat;
   const int nb = B.nb;
-  const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300));
-  // element shape: node count, then the rounded node coordinates (unused slots zero)
-  KeyMap<1 + 2 * kMaxNodes> type_of_shape;
+  // Equal shapes: the same node count and every node within tol of the type's first element.
+  // Found through a key of the coordinates rounded to a coarse grid (1000 tol): rounded to tol
+  // itself, the rounding noise of node positions taken relative to centroids far from the
+  // origin (1e-14 mm at 78 mm) fell on a cell boundary often enough to split a 1M-brick wall of
+  // about 40 shapes into 3,039 types. The coarse cell lists its types; a shape near one of its
+  // edges may still start a type of its own (rare: noise / cell ~ 1e-7 per coordinate).
+  const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300)), cell = 1000.0 * tol;
+  std::unordered_map<std::array<std::uint64_t, 1 + 2 * kMaxNodes>, std::vector<int>, KeyHash<1 + 2 * kMaxNodes>>
+      type_of_shape;
   type_of_shape.reserve(64);
   auto& types = B.types;
   map = HostMap{};
@@ -150,11 +157,22 @@ void add_elements(Build<Mem>& B) {
       std::array<std::uint64_t, 1 + 2 * kMaxNodes> key{};
       key[0] = static_cast<std::uint64_t>(e.nodes);
       for (int k = 0; k < e.nodes; ++k)
-        key[1 + 2 * k] = static_cast<std::uint64_t>(std::llround(e.x[k] / tol)),
-        key[2 + 2 * k] = static_cast<std::uint64_t>(std::llround(e.y[k] / tol));
-      auto [it, fresh] = type_of_shape.try_emplace(key, static_cast<int>(types.size()));
-      if (fresh) types.push_back(e);
-      t = it->second;
+        key[1 + 2 * k] = static_cast<std::uint64_t>(std::llround(e.x[k] / cell)),
+                    key[2 + 2 * k] = static_cast<std::uint64_t>(std::llround(e.y[k] / cell));
+      auto& listed = type_of_shape[key];
+      const auto same = std::find_if(listed.begin(), listed.end(), [&](int c) {
+        const ElementMatrices& r = types[c];
+        for (int k = 0; k < e.nodes; ++k)
+          if (std::abs(r.x[k] - e.x[k]) > tol || std::abs(r.y[k] - e.y[k]) > tol) return false;
+        return true;
+      });
+      if (same != listed.end()) {
+        t = *same;
+      } else {
+        t = static_cast<int>(types.size());
+        listed.push_back(t);
+        types.push_back(e);
+      }
     } else {
       t = static_cast<int>(types.size());
       types.push_back(e);
