@@ -273,24 +273,34 @@ std::vector<double> read_state(const std::filesystem::path& path) {
   return v;
 }
 
+/// --compare DIR's bench.json, refused (std::invalid_argument) unless each key of `mine` (bricks,
+/// unit; after the runs also the units per repeat, which a path shorter than --steps load steps
+/// sets) has this bench's value: checked before the timed runs, and again after them.
+nlohmann::ordered_json compare_reference(const BenchOptions& o, const nlohmann::ordered_json& mine) {
+  std::ifstream jin(std::filesystem::path(o.compare) / "bench.json");
+  if (!jin)
+    throw std::invalid_argument(o.compare + "/bench.json: cannot be read (--compare takes a bench's output directory)");
+  const auto other = nlohmann::ordered_json::parse(jin);
+  for (const auto& [key, value] : mine.items())
+    if (other.at(key) != value)
+      throw std::invalid_argument("--compare " + o.compare + ": its " + key + " is " + other.at(key).dump() +
+                                  ", this bench's " + value.dump() + " (compare the same deck and units)");
+  return other;
+}
+
 /// --compare DIR: each backend's state against another bench's (another build: a GPU, another
 /// compiler), within a relative tolerance; the bench must be the same deck and units.
 nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::ordered_json& mine,
                                     const std::vector<std::pair<std::string, const Sample*>>& firsts, bool& within) {
   namespace fs = std::filesystem;
-  std::ifstream jin(fs::path(o.compare) / "bench.json");
-  if (!jin)
-    throw std::invalid_argument(o.compare + "/bench.json: cannot be read (--compare takes a bench's output directory)");
-  const auto other = nlohmann::ordered_json::parse(jin);
-  for (const char* key : {"bricks", "unit", "units_per_repeat"})
-    if (other.at(key) != mine.at(key))
-      throw std::invalid_argument("--compare " + o.compare + ": its " + key + " is " + other.at(key).dump() +
-                                  ", this bench's " + mine.at(key).dump() + " (compare the same deck and units)");
+  const auto other = compare_reference(o, mine);
   // the arrays the state file holds (bench.json "state_file"."arrays"); a bench written before
   // the arrays were recorded holds one array, compared at one scale as it was then
   const std::vector<double> flat = read_state(fs::path(o.compare) / "state.bin");
   std::vector<std::pair<std::string, std::size_t>> layout;
-  if (const auto& sf = other.value("state_file", nlohmann::ordered_json::object()); sf.contains("arrays"))
+  const auto sf = other.value("state_file", nlohmann::ordered_json::object());
+  const bool recorded = sf.contains("arrays");
+  if (recorded)
     for (const auto& a : sf.at("arrays"))
       layout.emplace_back(a.at("name").get<std::string>(), a.at("values").get<std::size_t>());
   else
@@ -304,7 +314,7 @@ nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::order
   c["machine"] = other.at("machine");
   c["reference_backend"] = other.at("backends").begin().key();
   c["tolerance"] = o.tolerance;
-  c["per_array"] = layout.size() > 1;
+  c["per_array"] = recorded;
   within = true;
   const auto describe = [](const io::NamedArrays& st) {
     std::string t;
@@ -312,7 +322,7 @@ nlohmann::ordered_json compare_with(const BenchOptions& o, const nlohmann::order
     return t;
   };
   for (const auto& [name, s] : firsts) {
-    const io::NamedArrays mine_state = layout.size() > 1 ? s->state : io::NamedArrays{{"state", io::flatten(s->state)}};
+    const io::NamedArrays mine_state = recorded ? s->state : io::NamedArrays{{"state", io::flatten(s->state)}};
     const auto d = io::compare_states(ref, mine_state);
     if (!d.same_layout)  // another deck, or a state saved by another version of nacre
       throw std::invalid_argument("--compare " + o.compare + ": its state holds " + describe(ref) +
@@ -418,7 +428,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     const bool same = vs0.bit_identical;
     // bit for bit where nacre promises it: against the first listed backend of the same kind of
     // arithmetic (host backends among themselves, whatever the order); a backend of another kind
-    // than the first within --tolerance of the largest |value| (a device against the host)
+    // than the first within --tolerance, array by array (a device against the host)
     std::size_t kin = 0;
     while (!backends[kin].bit_compatible(backends[k].name())) ++kin;
     const bool bits_promised = kin < k || k == 0;
@@ -547,6 +557,11 @@ int bench(const BenchOptions& o) {
   for (const auto& b : backends) std::cout << " " << b.name() << " (" << b.concurrency() << " threads)";
   std::cout << "\n";
 
+  if (!o.compare.empty())  // a reference of another deck or units: refused before anything is timed
+    (void)compare_reference(o, {{"bricks", specimen.size()},
+                                {"unit", dynamic       ? "step"
+                                         : o.steps > 0 ? "load_step"
+                                                       : "cycle"}});
   std::vector<Bounds> bounds;
   for (const auto& b : backends) bounds.push_back(b.visit([](const auto& s) { return measure_bounds(s); }));
   std::vector<Sample> samples;

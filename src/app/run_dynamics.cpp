@@ -175,9 +175,10 @@ int print_critical_step(const deck::Deck& d, bool quiet, const Backend& backend)
     std::printf("%.6g\n", critical);
     return 0;
   }
-  std::printf("nacre: %s: %zu bricks, method %s%s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s\n",
-              d.path.c_str(), s.specimen.size(), method_name(p.method), scheme_label(p), p.youngs_modulus,
-              d.dynamics.ratio(), p.alpha_d, p.beta_d);
+  std::printf(
+      "nacre: %s: %zu bricks, method %s%s, E = %.6g N/mm^2 (ratio %.4g), alpha_d = %.6g 1/s, beta_d = %.6g s, on %s\n",
+      d.path.c_str(), s.specimen.size(), method_name(p.method), scheme_label(p), p.youngs_modulus, d.dynamics.ratio(),
+      p.alpha_d, p.beta_d, backend.name().c_str());
   if (estimate_bounds_step(p))
     std::printf("critical step: %.6g s (estimated: 2 / sqrt of the largest element eigenvalue of M^-1 K plus the "
                 "interfaces' Gershgorin bound%s, at brick %d; what the run's dt_fraction and monitor use)\n",

@@ -137,9 +137,11 @@ void add_elements(Build<Mem>& B) {
   // Equal shapes: the same node count and every node within tol of the type's first element.
   // Found through a key of the coordinates rounded to a coarse grid (1000 tol): rounded to tol
   // itself, the rounding noise of node positions taken relative to centroids far from the
-  // origin (1e-14 mm at 78 mm) fell on a cell boundary often enough to split a 1M-brick wall of
-  // about 40 shapes into 3,039 types. The coarse cell lists its types; a shape near one of its
-  // edges may still start a type of its own (rare: noise / cell ~ 1e-7 per coordinate).
+  // origin fell on cell boundaries and split equal shapes (a 98,325-brick wall: 36 types, 13
+  // now; a 980,535-brick one: 3,039, 669 now). The coarse cell lists its types; a shape near one
+  // of its edges may still start a type of its own. What remains at 1M bricks is the centroids'
+  // own rounding (the shoelace on coordinates near 78 mm: ~5e-11 mm, about tol; docs/design.md
+  // "Not done yet").
   const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300)), cell = 1000.0 * tol;
   std::unordered_map<std::array<std::uint64_t, 1 + 2 * kMaxNodes>, std::vector<int>, KeyHash<1 + 2 * kMaxNodes>>
       type_of_shape;

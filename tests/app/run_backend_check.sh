@@ -50,6 +50,12 @@ n, steps = int(sys.argv[1]), [float(x) for x in sys.argv[2:]]
 assert all(math.isfinite(h) and h > 0 for h in steps), steps
 assert len(set(steps[:n])) == 1, steps
 PY
+# (the full report names the backend it ran on: a --backend ignored would show)
+for b in "${backends[@]}" $device; do
+  "$exe" "$src/tests/app/tiny_dynamic.toml" --critical-step --backend "$b" > "crit_full_$b.txt" 2>&1
+  grep -q "^nacre: .* bricks, method .*, on $b\$" "crit_full_$b.txt" \
+    && ok "--critical-step --backend $b: says it ran on $b" || bad "--critical-step --backend $b does not name $b"
+done
 expect 2 "not a backend of this build" "$exe" "$src/tests/app/tiny_dynamic.toml" --critical-step --backend no-such
 for deck in "$src/tests/app/tiny_dynamic.toml" tiny_bie.toml; do
   name=$(basename "$deck" .toml)

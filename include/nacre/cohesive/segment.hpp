@@ -260,7 +260,7 @@ KOKKOS_INLINE_FUNCTION T penalty_integral(const Law& m, const BasicGap<T>& g) {
   // a^7 underflows to zero for |a| below ~1e-44 (the gaps ahead of an elastic wave's front are
   // subnormal), and (a - other) den can with it: 0 / 0 made the energy NaN (a 98,603-brick BE
   // run stopped at step 72, forces finite). The energy there is zero to 1e-290 of k.
-  if (!(a7 < 0.0)) return T(0.0);
+  if (a7 >= 0.0) return T(0.0);  // (a NaN gap still gives NaN)
   return 0.0625 * m.k * a7 / ((a - other) * den);
 }
 

@@ -652,12 +652,13 @@ long sweep_colour(BatchedTrials, std::bool_constant<PerBrick>, const ExecutionSp
               const double a2 = q0 * q0, a3 = a2 * q0, b2 = q1 * q1, b3 = b2 * q1;
               const double num = a3 * a3 + a3 * a2 * q1 + a2 * a2 * b2 + a3 * b3 + a2 * b2 * b2 + q0 * b2 * b3 + b3 * b3;
               const double qa = q0 < 0.0 ? q0 : q1, qo = q0 < 0.0 ? q1 : q0;  // qa < 0 <= qo where one end penetrates
-              const double qa2 = qa * qa, qa6 = qa2 * qa2 * qa2;
+              const double qa2 = qa * qa, qa7 = qa2 * qa2 * qa2 * qa;
               // both forms computed, one selected (no conditional arithmetic: the loop stays one
-              // block); the unselected form's divisors are kept non-zero, the selected one's are
+              // block); the unselected form's divisors are kept non-zero, the selected one's are;
+              // where qa^7 underflows (a subnormal gap) the energy is 0, as penalty_integral's
               const double dq = qa - qo, dd = den != 0.0 ? den : 1.0;
               const double e_both = 0.0625 * lk * num / dd;
-              const double e_one = 0.0625 * lk * (qa6 * qa) / ((dq != 0.0 ? dq : 1.0) * dd);
+              const double e_one = qa7 >= 0.0 ? 0.0 : 0.0625 * lk * qa7 / ((dq != 0.0 ? dq : 1.0) * dd);
               const double ep = pen ? (both ? e_both : e_one) : 0.0;
               en[l] = r(C::length) * (ef + ep);
               general[l] = on[l] & int(!((d0 <= x1sq) & (d1 <= x1sq)));
