@@ -346,15 +346,18 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                 const std::vector<Sample>& samples) {
   namespace fs = std::filesystem;
   const std::string unit = dynamic ? "step" : o.steps > 0 ? "load_step" : "cycle";
+  auto first = [&](std::size_t k) {  // backend k's first repeat
+    for (const auto& s : samples)
+      if (s.backend == backends[k].name()) return &s;
+    return static_cast<const Sample*>(nullptr);
+  };
   // --compare first: a reference that does not fit (another deck, units or layout) is refused
   // before any file is written
   bool within = true;
   nlohmann::ordered_json compared;
   if (!o.compare.empty()) {
     std::vector<std::pair<std::string, const Sample*>> firsts;
-    for (const auto& b : backends)
-      firsts.emplace_back(b.name(), &*std::find_if(samples.begin(), samples.end(),
-                                                   [&](const Sample& s) { return s.backend == b.name(); }));
+    for (std::size_t k = 0; k < backends.size(); ++k) firsts.emplace_back(backends[k].name(), first(k));
     compared = compare_with(o, {{"bricks", bricks}, {"unit", unit}, {"units_per_repeat", samples.front().units}},
                             firsts, within);
   }
@@ -379,11 +382,6 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
     for (const auto& s : samples)
       if (s.backend == backends[k].name() && (!b || s.seconds < b->seconds)) b = &s;
     return b;
-  };
-  auto first = [&](std::size_t k) {
-    for (const auto& s : samples)
-      if (s.backend == backends[k].name()) return &s;
-    return static_cast<const Sample*>(nullptr);
   };
   nlohmann::ordered_json j;
   j["deck"] = d.path;

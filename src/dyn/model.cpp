@@ -46,8 +46,8 @@ struct KeyHash {
     return static_cast<std::size_t>(h);
   }
 };
-template <std::size_t N>
-using KeyMap = std::unordered_map<std::array<std::uint64_t, N>, int, KeyHash<N>>;
+template <std::size_t N, class Value = int>
+using KeyMap = std::unordered_map<std::array<std::uint64_t, N>, Value, KeyHash<N>>;
 
 template <class V>
 V alloc(const std::string& label, std::size_t n0, std::size_t n1 = KOKKOS_IMPL_CTOR_DEFAULT_ARG,
@@ -143,8 +143,7 @@ void add_elements(Build<Mem>& B) {
   // own rounding (the shoelace on coordinates near 78 mm: ~5e-11 mm, about tol; docs/design.md
   // "Not done yet").
   const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300)), cell = 1000.0 * tol;
-  std::unordered_map<std::array<std::uint64_t, 1 + 2 * kMaxNodes>, std::vector<int>, KeyHash<1 + 2 * kMaxNodes>>
-      type_of_shape;
+  KeyMap<1 + 2 * kMaxNodes, std::vector<int>> type_of_shape;  // coarse cell -> its types
   type_of_shape.reserve(64);
   auto& types = B.types;
   map = HostMap{};

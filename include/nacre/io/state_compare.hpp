@@ -52,8 +52,7 @@ struct StateDifference {
     d.bit_identical = false, d.max_abs = inf, d.relative = inf, d.worst = "(layout)";
     return d;
   }
-  double whole = 0;
-  for (const auto& a : reference) whole = std::max(whole, largest_magnitude(a.values));
+  double whole = -1;  // the whole state's largest |value|, found when an all-zero array differs
   for (std::size_t k = 0; k < reference.size(); ++k) {
     const auto& r = reference[k].values;
     const auto& o = other[k].values;
@@ -67,6 +66,10 @@ struct StateDifference {
     d.max_abs = std::max(d.max_abs, diff);
     if (diff == 0) continue;
     const double own = largest_magnitude(r);
+    if (!(own > 0) && whole < 0) {
+      whole = 0;
+      for (const auto& a : reference) whole = std::max(whole, largest_magnitude(a.values));
+    }
     const double scale = own > 0 ? own : whole > 0 ? whole : 1.0;
     if (const double rel = diff / scale; rel > d.relative || d.worst.empty())
       d.relative = rel, d.worst = reference[k].name, d.worst_scale = scale;
