@@ -33,7 +33,11 @@ Poly clip(const Poly& in, double a, double b, double c) {
   return out;
 }
 
-/// \brief Area and centroid (shoelace); vertices closer than eps are merged first.
+/// \brief Area and centroid (shoelace); vertices closer than eps are merged first. The sums run
+/// on coordinates relative to the first vertex: on absolute ones the cross products of a brick far
+/// from the origin cancel (~78 mm x 39 mm against a 0.003 mm^2 brick) and left ~5e-11 mm of
+/// rounding in the centroid, enough to split equal shapes into element types of their own
+/// (669 types at 980,535 bricks, 13 near the origin); relative, the error is that of the inputs.
 bool finish(Poly& p, double eps, double& area, double& cx, double& cy) {
   Poly q;
   for (auto& v : p)
@@ -41,9 +45,10 @@ bool finish(Poly& p, double eps, double& area, double& cx, double& cy) {
   while (q.size() > 1 && std::hypot(q.front().x - q.back().x, q.front().y - q.back().y) <= eps) q.pop_back();
   p = q;
   if (p.size() < 3) return false;
+  const P o = p[0];
   double a = 0, sx = 0, sy = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const P u = p[i], v = p[(i + 1) % p.size()];
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {  // edges touching o have c = 0
+    const P u{p[i].x - o.x, p[i].y - o.y}, v{p[i + 1].x - o.x, p[i + 1].y - o.y};
     const double c = u.x * v.y - v.x * u.y;
     a += c;
     sx += (u.x + v.x) * c;
@@ -51,8 +56,8 @@ bool finish(Poly& p, double eps, double& area, double& cx, double& cy) {
   }
   area = 0.5 * a;
   if (area <= 0) return false;
-  cx = sx / (6 * area);
-  cy = sy / (6 * area);
+  cx = o.x + sx / (6 * area);
+  cy = o.y + sy / (6 * area);
   return true;
 }
 
