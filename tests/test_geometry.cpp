@@ -118,11 +118,10 @@ TEST_CASE("interface search scales linearly: about three interfaces per brick", 
   CHECK(adj.offset.back() == static_cast<int>(2 * f.size()));
 }
 
-TEST_CASE("centroids and areas far from the origin carry the rounding of the coordinates only",
-          "[geometry]") {
+TEST_CASE("centroids and areas far from the origin carry the rounding of the coordinates only", "[geometry]") {
   // A strip of the README BIE deck's bricks (0.105 x 0.03 mm) reaching 78.5 mm from the origin:
   // every whole brick has the same area, and its corners lie at +-w/2, +-h/2 from its centroid.
-  // The shoelace on absolute coordinates cancelled there (errors ~5e-11 mm, areas off by ~1e-9
+  // The shoelace on absolute coordinates cancelled there (errors ~4e-11 mm, areas off by ~2e-12
   // relative) and split equal bricks into element types of their own (dyn/model.cpp).
   deck::Geometry g;
   g.width = 78.54;
@@ -147,6 +146,6 @@ TEST_CASE("centroids and areas far from the origin carry the rounding of the coo
   INFO("whole bricks " << whole << ", worst relative area error " << worst_area << ", worst corner offset error "
                        << worst_corner << " mm");
   CHECK(whole > 7000);
-  CHECK(worst_area < 5e-13);     // ulp(78.5 mm) / h: the corners' own rounding (absolute: 1.8e-12)
+  CHECK(worst_area < 5e-13);    // ulp(78.5 mm) / h: the corners' own rounding (absolute: 1.8e-12)
   CHECK(worst_corner < 1e-13);  // a few ulps of 78.5 mm, 1.4e-14 (absolute: 4.2e-11)
 }

@@ -920,15 +920,35 @@ std::size_t Simulation::step_bytes() const {
 }
 double Simulation::step_flops() const {
   return on([&](auto& I) -> double {
-    if (I.is_bie()) return NAN;
     const auto& m = I.m;
     const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
     const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
-    double per_elem = 4.0 * nd;                                         // initial: u += h v + h^2/2 a
-    per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
-    per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;                // r = f - K u - alpha M w - beta K w
-    per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
-    per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;                // beta v K v; the books
+    double per_elem = 0;
+    if (I.is_bie()) {
+      // the split step (bie.hpp: split_start_lanes, the J^-1 apply, the update, tile_books with
+      // no residual, split_kick_lanes; the per-element kernels do the same operations); the
+      // iterated scheme's Newton iterations are not counted
+      if (I.p.bie_scheme != BieScheme::split) return NAN;
+      per_elem += mat + nd * (4.0 + 8.0);  // v+ = v + h/2 phi, w = p + beta v+; K w; -M^-1 K w - alpha v+, G
+      if (!I.bie_fused())
+        per_elem += 4.0 * mat;  // the unfused solves (row, reordered, batched, shared_gemm): dense 2nd x 2nd
+      else if (I.p.bie_block_structure && I.bie.vfirst)
+        per_elem += 2.0 * mat + 4.0 * nd;  // g_p -= h/2 g_v; Jv: nd x 2nd; y_p = g_p + h/2 y_v
+      else if (I.p.bie_block_structure && I.bie.block_lower)
+        per_elem += 2.0 * mat + 2.0 * nd + (I.bie.jq != 0.0 ? 2.0 * nd : 0.0);  // 2nd x nd, jr g_v (g_p -= jq g_v)
+      else
+        per_elem += 4.0 * mat;                                   // the dense 2nd x 2nd apply
+      per_elem += 2.0 * nd;                                      // p + y_p, v + y_v
+      per_elem += nd * (5.0 + 8.0) + (has_fp ? nd : 0.0) + 2.0;  // books: work, damping, |dv|^2
+      per_elem += damped_k ? mat + 2.0 * nd : 0.0;               // beta dp . K v_mid
+      per_elem += nd * (1.0 + 4.0) + (has_fp ? nd : 0.0);        // kick: M^-1 (F + Theta + F_p), v
+    } else {
+      per_elem += 4.0 * nd;                                               // initial: u += h v + h^2/2 a
+      per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
+      per_elem += mat + (damped_k ? mat : 0.0) + nd * 6.0;                // r = f - K u - alpha M w - beta K w
+      per_elem += (m.ainv_diagonal ? nd : mat) + nd * (3.0 + 2.0 + 3.0);  // a = A^-1 r; v, mid v, damping power
+      per_elem += (damped_k ? mat + 3.0 * nd : 0.0) + 4.0;                // beta v K v; the books
+    }
     // an interface: the jump at both ends (4 components of 2 shape-weighted differences), the end
     // forces, their split onto the 8 edge dofs ((1 - x) F0 + (1 - x') F1) and the gather (8 adds)
     const cohesive::Law& law = m.laws.law[0];

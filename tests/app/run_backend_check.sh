@@ -164,6 +164,24 @@ PY
 else
   bad "nacre bench failed: $(tail -3 bench_dyn.txt bench_mc.txt bench_aes.txt)"
 fi
+# BIE's flops: the split step (this damped deck's auto scheme) is counted, so it has a fraction of
+# the FMA bound, above BE's count on the same deck (its K and J^-1 applies); the iterated scheme's
+# Newton iterations are not counted (null)
+sed 's/^method = "bie"/method = "bie"\nbie_scheme = "iterate"/' tiny_bie.toml > tiny_bie_iter.toml
+if "$exe" bench tiny_bie.toml --steps 20 --repeat 1 --backends "$last" -o bench_bie > bench_bie.txt 2>&1 &&
+   "$exe" bench tiny_bie_iter.toml --steps 20 --repeat 1 --backends "$last" -o bench_bie_iter > bench_bie_iter.txt 2>&1; then
+  python3 - "$last" <<'PY' && ok "bench: BIE's split step counted (fraction of the FMA bound), the iterated one not" || bad "bench BIE flops"
+import json, sys
+b = sys.argv[1]
+split = json.load(open("bench_bie/bench.json"))["backends"][b]
+it = json.load(open("bench_bie_iter/bench.json"))["backends"][b]
+be = json.load(open("bench_dyn/bench.json"))["backends"][b]
+assert 0 < split["fraction_of_fma"] < 10 and split["flops_per_unit"] > be["flops_per_unit"], (split, be)
+assert it["fraction_of_fma"] is None and it["flops_per_unit"] is None, it
+PY
+else
+  bad "nacre bench on BIE decks failed: $(tail -3 bench_bie.txt bench_bie_iter.txt)"
+fi
 expect 2 "not one this build can run" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --backends no-such -o bench_bad
 # --compare: another bench's state (here this build's own, on the last backend: bit-identical);
 # another seed differs (beyond a tolerance of 1e-300: exit 1); another deck is refused (exit 2)

@@ -201,7 +201,9 @@ public:
   /// dofs), and the update's vector work; per interface the jump at the ends, the end forces
   /// (cohesive::integrate run on flops::Counted on the elastic branch, the state of almost every
   /// interface; a softening one costs more), their shape-function split and the gather. Counting
-  /// convention: core/flop_count.hpp. NaN for BIE (its iterations and J^-1 apply are not counted).
+  /// convention: core/flop_count.hpp. BIE's split step: the K applies, the J^-1 apply of the form
+  /// the run takes (dense 2nd x 2nd, or the block forms' columns) and the vector work; NaN for the
+  /// iterated scheme (its Newton iterations are not counted).
   [[nodiscard]] double step_flops() const;
   [[nodiscard]] int element_types() const;
   /// \brief Elements whose mass Params::sliver_step_ratio scaled, and the mass they gained
