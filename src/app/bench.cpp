@@ -539,7 +539,14 @@ int bench(const BenchOptions& o) {
     for (std::string name; std::getline(in, name, ',');) names.push_back(name);
   }
   std::vector<Backend> backends;
-  for (const auto& name : names) backends.push_back(Backend::parse(name));
+  for (const auto& name : names) {
+    backends.push_back(Backend::parse(name));
+    // bench.json keys its results by backend: a backend listed twice (openmp,OpenMP too) would
+    // overwrite its own entry and the agreement check would compare it with itself
+    for (std::size_t k = 0; k + 1 < backends.size(); ++k)
+      if (backends[k].name() == backends.back().name())
+        throw std::invalid_argument("--backends lists " + backends.back().name() + " twice (\"" + o.backends + "\")");
+  }
   auto specimen = geometry::build_specimen(d.geometry);
   const auto interfaces = geometry::find_interfaces(specimen, d.geometry);
   if (dynamic && o.cycles > 0) throw std::invalid_argument("--cycles applies to Monte Carlo decks; use --steps");
@@ -599,6 +606,16 @@ int bench_main(int argc, char* argv[]) {
                  "largest |difference| over its largest |value| (default 1e-6)")
       ->check(CLI::PositiveNumber);
   if (const int rc = parse_command_line(cli, app_args, [] {}); rc >= 0) return rc;
+  // (CLI11's PositiveNumber lets NaN through: every comparison with it is false)
+  if (!std::isfinite(o.tolerance)) {
+    std::cerr << "nacre bench: error: --tolerance: expected a positive finite number, got " << o.tolerance << "\n";
+    return 2;
+  }
+  if (cli.count("--backends") > 0 && o.backends.empty()) {
+    std::cerr << "nacre bench: error: --backends: expected a comma-separated list of backends (`nacre --backend "
+                 "list`), got an empty one\n";
+    return 2;
+  }
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());

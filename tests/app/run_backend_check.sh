@@ -183,6 +183,10 @@ else
   bad "nacre bench on BIE decks failed: $(tail -3 bench_bie.txt bench_bie_iter.txt)"
 fi
 expect 2 "not one this build can run" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --backends no-such -o bench_bad
+expect 2 "lists $first twice" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 2 --backends "$first,${first^^}" -o bench_bad
+expect 2 "got an empty one" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 2 --backends "" -o bench_bad
+expect 2 "expected a positive finite number" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 2 --tolerance nan -o bench_bad
+[ ! -e bench_bad ] && ok "refused benches wrote nothing" || bad "a refused bench wrote $(ls bench_bad)"
 # --compare: another bench's state (here this build's own, on the last backend: bit-identical);
 # another seed differs (beyond a tolerance of 1e-300: exit 1); another deck is refused (exit 2)
 if "$exe" bench tiny_aes.toml --steps 2 --repeat 1 --backends "$last" --compare bench_aes -o bench_cmp > bench_cmp.txt 2>&1 &&
