@@ -146,6 +146,6 @@ TEST_CASE("centroids and areas far from the origin carry the rounding of the coo
   INFO("whole bricks " << whole << ", worst relative area error " << worst_area << ", worst corner offset error "
                        << worst_corner << " mm");
   CHECK(whole > 7000);
-  CHECK(worst_area < 5e-13);    // ulp(78.5 mm) / h: the corners' own rounding (absolute: 1.8e-12)
+  CHECK(worst_area < 5e-13);    // a few ulp(78.5 mm) / w: the corners' own rounding (absolute: 1.8e-12)
   CHECK(worst_corner < 1e-13);  // a few ulps of 78.5 mm, 1.4e-14 (absolute: 4.2e-11)
 }

@@ -923,25 +923,47 @@ double Simulation::step_flops() const {
     const auto& m = I.m;
     const double nd = m.nd, mat = 2.0 * nd * nd;  // one dense nd x nd product
     const bool damped_k = m.beta != 0.0, has_fp = m.fp.extent(0) > 0;
-    double per_elem = 0;
+    double per_elem = 0, forces = 1;  // per element; interface force passes per step
     if (I.is_bie()) {
-      // the split step (bie.hpp: split_start_lanes, the J^-1 apply, the update, tile_books with
-      // no residual, split_kick_lanes; the per-element kernels do the same operations); the
-      // iterated scheme's Newton iterations are not counted
-      if (I.p.bie_scheme != BieScheme::split) return NAN;
-      per_elem += mat + nd * (4.0 + 8.0);  // v+ = v + h/2 phi, w = p + beta v+; K w; -M^-1 K w - alpha v+, G
-      if (!I.bie_fused())
-        per_elem += 4.0 * mat;  // the unfused solves (row, reordered, batched, shared_gemm): dense 2nd x 2nd
-      else if (I.p.bie_block_structure && I.bie.vfirst)
-        per_elem += 2.0 * mat + 4.0 * nd;  // g_p -= h/2 g_v; Jv: nd x 2nd; y_p = g_p + h/2 y_v
-      else if (I.p.bie_block_structure && I.bie.block_lower)
-        per_elem += 2.0 * mat + 2.0 * nd + (I.bie.jq != 0.0 ? 2.0 * nd : 0.0);  // 2nd x nd, jr g_v (g_p -= jq g_v)
-      else
-        per_elem += 4.0 * mat;                                   // the dense 2nd x 2nd apply
-      per_elem += 2.0 * nd;                                      // p + y_p, v + y_v
-      per_elem += nd * (5.0 + 8.0) + (has_fp ? nd : 0.0) + 2.0;  // books: work, damping, |dv|^2
-      per_elem += damped_k ? mat + 2.0 * nd : 0.0;               // beta dp . K v_mid
-      per_elem += nd * (1.0 + 4.0) + (has_fp ? nd : 0.0);        // kick: M^-1 (F + Theta + F_p), v
+      // bie.hpp's lane code, term by term; M^-1 and alpha M are per type and row, hoisted out of the
+      // lanes (not counted, as constants); the per-element GPU kernels recompute a few sums (v+,
+      // dp, v_mid: a few nd more)
+      const bool fused = I.bie_fused(), vfirst = fused && I.p.bie_block_structure && I.bie.vfirst;
+      const bool block = fused && !vfirst && I.p.bie_block_structure && I.bie.block_lower;
+      // the J^-1 apply (tile_correction): unfused solves (row, reordered, batched, shared_gemm)
+      // and the fused dense form a 2nd x 2nd product; velocity-first g_p -= h/2 g_v, Jv (nd x
+      // 2nd), y_p = g_p + h/2 y_v; block-lower 2nd x nd, jr g_v (and g_p -= jq g_v)
+      const double apply = vfirst  ? 2.0 * mat + 4.0 * nd
+                           : block ? 2.0 * mat + 2.0 * nd + (I.bie.jq != 0.0 ? 2.0 * nd : 0.0)
+                                   : 4.0 * mat;
+      const double update = 2.0 * nd;                             // p += y_p, v += y_v
+      const double load = nd + (has_fp ? nd : 0.0);               // f = F_i + (Theta + F_p)
+      const double acc = mat + 6.0 * nd;                          // a = M^-1 (f - K (u + beta v)) - alpha v
+      const double beta_books = damped_k ? mat + 2.0 * nd : 0.0;  // beta dp . K v_mid
+      const double fp_books = has_fp ? nd : 0.0;                  // the work's Theta + F_p
+      if (I.p.bie_scheme == BieScheme::split) {
+        per_elem += mat + nd * (4.0 + 7.0);  // v+ = v + h/2 phi, w = p + beta v+; K w; -M^-1 K w - alpha v+, G
+        per_elem += apply + update;
+        per_elem += nd * (5.0 + 7.0) + fp_books + beta_books + 2.0;  // books (no residual): work, damping, |dv|^2
+        per_elem += nd * (1.0 + 3.0) + fp_books;                     // kick: M^-1 (F + Theta + F_p), v
+      } else {  // eq. 4.6's iterations (bie_step, BieIterateScheme)
+        const int iters = I.p.bie_iterations;
+        const bool reuse = I.p.bie_reuse_force && iters >= 2;
+        const bool reduced = block && I.bie.jq == 0.0 && iters == 2 && reuse;  // BieIterFinalLinearTileTag
+        const double residual = mat + 16.0 * nd;                               // dp, dv, K (dp + beta dv), G_p, G_v
+        const double books = nd * (5.0 + 13.0) + fp_books + beta_books + 2.0;  // + the |G_v|^2 book
+        per_elem += 4.0 * nd + (reduced ? mat + nd : apply + update);          // G at x_n; the first apply (u only)
+        for (int k = 1; k < iters; ++k) {
+          if (reuse && k == iters - 1) break;
+          per_elem += load + acc + residual + apply + update;
+        }
+        if (reuse)  // the last iteration on the kept force, then a_{n+1} and the books
+          per_elem += reduced ? load + acc + 3.0 * nd + books
+                              : load + acc + residual + apply + update + (fused ? acc : load + acc) + books;
+        else
+          per_elem += load + acc + books;
+        forces = reuse ? iters - 1 : iters;
+      }
     } else {
       per_elem += 4.0 * nd;                                               // initial: u += h v + h^2/2 a
       per_elem += nd * (1.0 + (has_fp ? 1.0 : 0.0) + 2.0 + 3.0);          // f, w = v + h/2 a, the work
@@ -956,7 +978,7 @@ double Simulation::step_flops() const {
     const cohesive::BasicGap<flops::Counted> g{0.6 * e, 0.8 * e, 0.5 * e, 0.7 * e, 0.0, 1.0};
     const double ends = flops::count([&] { (void)cohesive::integrate(cohesive::TractionTag{}, law, g, 1.0); }).flops();
     const double per_iface = 4.0 * 9.0 + ends + 8.0 * 5.0 + 8.0;
-    return per_elem * static_cast<double>(m.n_elem) + per_iface * static_cast<double>(m.n_iface);
+    return per_elem * static_cast<double>(m.n_elem) + forces * per_iface * static_cast<double>(m.n_iface);
   });
 }
 double Simulation::jacobian_condition() const {

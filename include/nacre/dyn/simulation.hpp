@@ -201,9 +201,10 @@ public:
   /// dofs), and the update's vector work; per interface the jump at the ends, the end forces
   /// (cohesive::integrate run on flops::Counted on the elastic branch, the state of almost every
   /// interface; a softening one costs more), their shape-function split and the gather. Counting
-  /// convention: core/flop_count.hpp. BIE's split step: the K applies, the J^-1 apply of the form
-  /// the run takes (dense 2nd x 2nd, or the block forms' columns) and the vector work; NaN for the
-  /// iterated scheme (its Newton iterations are not counted).
+  /// convention: core/flop_count.hpp. BIE: the K applies, the J^-1 applies in the form the run
+  /// takes (dense 2nd x 2nd, or the block forms' columns), the vector work and the interface force
+  /// passes of the step's scheme (split: one of each; iterated: per iteration, with the kept force
+  /// and the reduced last pass where the run takes them).
   [[nodiscard]] double step_flops() const;
   [[nodiscard]] int element_types() const;
   /// \brief Elements whose mass Params::sliver_step_ratio scaled, and the mass they gained
