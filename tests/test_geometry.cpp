@@ -24,6 +24,15 @@ deck::Geometry tiny() {
   g.min_piece_fraction = 0.0;
   return g;
 }
+/// A wall of the deck's default bricks without a notch (its line at mid-height).
+deck::Geometry unnotched(double width, double height) {
+  deck::Geometry g;
+  g.width = width;
+  g.height = height;
+  g.notch_length = 0;
+  g.notch_y = 0.5 * height;
+  return g;
+}
 double total(const Interfaces& f, JointKind k) {
   double s = 0;
   for (std::size_t i = 0; i < f.size(); ++i)
@@ -103,11 +112,7 @@ TEST_CASE("rotated, notched walls: area conserved, segments consistent, nothing 
 }
 
 TEST_CASE("interface search scales linearly: about three interfaces per brick", "[geometry]") {
-  deck::Geometry g;
-  g.width = 350;
-  g.height = 100;
-  g.notch_length = 0;
-  g.notch_y = 50;
+  const deck::Geometry g = unnotched(350, 100);
   Specimen s = build_specimen(g);
   Interfaces f = find_interfaces(s, g);
   const double per_brick = static_cast<double>(f.size()) / s.size();
@@ -123,13 +128,9 @@ TEST_CASE("centroids and areas far from the origin carry the rounding of the coo
   // every whole brick has the same area, and its corners lie at +-w/2, +-h/2 from its centroid.
   // The shoelace on absolute coordinates cancelled there (errors ~4e-11 mm, areas off by ~2e-12
   // relative) and split equal bricks into element types of their own (dyn/model.cpp).
-  deck::Geometry g;
-  g.width = 78.54;
-  g.height = 0.3;
+  deck::Geometry g = unnotched(78.54, 0.3);
   g.brick_width = 0.105;
   g.brick_height = 0.03;
-  g.notch_length = 0;
-  g.notch_y = 0.15;
   g.angle_deg = 0;
   const Specimen s = build_specimen(g);
   const double full = g.brick_width * g.brick_height;
