@@ -949,17 +949,20 @@ double Simulation::step_flops() const {
       } else {  // eq. 4.6's iterations (bie_step, BieIterateScheme)
         const int iters = I.p.bie_iterations;
         const bool reuse = I.p.bie_reuse_force && iters >= 2;
-        const bool reduced = block && I.bie.jq == 0.0 && iters == 2 && reuse;  // BieIterFinalLinearTileTag
+        // C = 0 in the block form: the last pass on the kept force is the reduced one at any
+        // iteration count (BieIterFinalLinearTileTag), the start positions-only with two
+        // (BieStartTileTag<Jinv, true>): bie_step's reduced_end
+        const bool reduced_end = block && I.bie.jq == 0.0 && reuse, reduced_start = reduced_end && iters == 2;
         const double residual = mat + 16.0 * nd;                               // dp, dv, K (dp + beta dv), G_p, G_v
         const double books = nd * (5.0 + 13.0) + fp_books + beta_books + 2.0;  // + the |G_v|^2 book
-        per_elem += 4.0 * nd + (reduced ? mat + nd : apply + update);          // G at x_n; the first apply (u only)
+        per_elem += 4.0 * nd + (reduced_start ? mat + nd : apply + update);    // G at x_n; the first apply
         for (int k = 1; k < iters; ++k) {
           if (reuse && k == iters - 1) break;
           per_elem += load + acc + residual + apply + update;
         }
         if (reuse)  // the last iteration on the kept force, then a_{n+1} and the books
-          per_elem += reduced ? load + acc + 3.0 * nd + books
-                              : load + acc + residual + apply + update + (fused ? acc : load + acc) + books;
+          per_elem += reduced_end ? load + acc + 3.0 * nd + books
+                                  : load + acc + residual + apply + update + (fused ? acc : load + acc) + books;
         else
           per_elem += load + acc + books;
         forces = reuse ? iters - 1 : iters;

@@ -37,7 +37,8 @@ Poly clip(const Poly& in, double a, double b, double c) {
 /// on coordinates relative to the first vertex: on absolute ones the cross products of a brick far
 /// from the origin cancel (~78 mm x 39 mm against a 0.003 mm^2 brick) and left ~4e-11 mm of
 /// rounding in the centroid, enough to split equal shapes into element types of their own
-/// (669 types at 980,535 bricks, 13 near the origin); relative, the error is that of the inputs.
+/// (669 types at 980,535 bricks, 13 at 98,325, where 2 shapes exist); relative, the error is that
+/// of the inputs.
 bool finish(Poly& p, double eps, double& area, double& cx, double& cy) {
   Poly q;
   for (auto& v : p)

@@ -183,6 +183,27 @@ PY
 else
   bad "nacre bench on BIE decks failed: $(tail -3 bench_bie.txt bench_bie_iter.txt)"
 fi
+# the iterated scheme without damping (C = 0, the block form): every pass on the kept force is the
+# reduced one, and only the two-iteration start is positions-only. So 2 -> 3 iterations adds one
+# iteration pass plus the full start's extra (apply + update - the positions-only apply: 2 nd^2 +
+# 3 nd per element), 3 -> 4 one iteration pass: the two steps differ by exactly that extra
+for k in 2 3 4; do
+  sed -e "s/^method = \"be\"/method = \"bie\"\nbie_iterations = $k/" -e 's/^damping = "table"/damping = "none"/' \
+    "$src/tests/app/tiny_dynamic.toml" > "undamped_$k.toml"
+done
+if (for k in 2 3 4; do "$exe" bench "undamped_$k.toml" --steps 3 --repeat 1 --backends "$last" -o "bench_ud_$k" > "bench_ud_$k.txt" 2>&1 || exit 1; done); then
+  python3 - "$last" <<'PY' && ok "bench: BIE's iterated count steps as its passes do (undamped, 2-4 iterations)" || bad "bench BIE iterated count"
+import json, math, sys
+f = {k: json.load(open(f"bench_ud_{k}/bench.json")) for k in (2, 3, 4)}
+n = f[2]["bricks"]  # one bolted element per brick
+c = {k: f[k]["backends"][sys.argv[1]]["flops_per_unit"] for k in f}
+extra = ((c[3] - c[2]) - (c[4] - c[3])) / n  # 2 nd^2 + 3 nd
+nd = (-3 + math.sqrt(9 + 8 * extra)) / 4
+assert c[4] > c[3] > c[2] > 0 and nd in (6, 8, 10, 12, 14, 16), (c, extra, nd)
+PY
+else
+  bad "nacre bench on undamped BIE decks failed: $(tail -3 bench_ud_*.txt)"
+fi
 expect 2 "not one this build can run" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --backends no-such -o bench_bad
 expect 2 "lists $first twice" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 2 --backends "$first,${first^^}" -o bench_bad
 expect 2 "got an empty one" "$exe" bench "$src/tests/app/tiny_dynamic.toml" --steps 2 --backends "" -o bench_bad

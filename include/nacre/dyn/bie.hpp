@@ -1025,8 +1025,8 @@ void bie_step(const ExecutionSpace& space, BieIterateScheme, std::true_type /*fu
               const BieSolveOp<MemOf<ExecutionSpace>>& /*solve: inside the tiles*/, const BieStepPlan& plan) {
   using Exec = ExecutionSpace;
   const int nw = it.ex.n_tiles + it.ex.n_driven;
-  // C = 0 (the block form with jq = 0): with two iterations and the force kept, the last pass is
-  // the reduced one and the start needs only u_1 (BieStartTileTag's PositionsOnly)
+  // C = 0 (the block form with jq = 0): with the force kept the last pass is the reduced one, and
+  // with two iterations the start needs only u_1 (BieStartTileTag's PositionsOnly)
   const bool reduced_end = std::is_same_v<Jinv, JinvBlockLower> && it.jq == 0.0;
   {
     Kokkos::Profiling::ScopedRegion r("nacre::dyn::bie_start");
