@@ -262,6 +262,12 @@ struct BenchOptions {
   int repeat = 3;
 };
 
+/// The unit a bench times (bench.json "unit"): a time step, a load step (--steps on a Monte Carlo
+/// deck) or a Monte Carlo cycle.
+const char* bench_unit(const BenchOptions& o, bool dynamic) {
+  return dynamic ? "step" : o.steps > 0 ? "load_step" : "cycle";
+}
+
 /// The state a bench leaves (the first backend's first repeat), raw doubles: what --compare reads.
 std::vector<double> read_state(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -345,7 +351,7 @@ int write_bench(const BenchOptions& o, const deck::Deck& d, std::size_t bricks, 
                 const std::vector<Backend>& backends, const std::vector<Bounds>& bounds,
                 const std::vector<Sample>& samples) {
   namespace fs = std::filesystem;
-  const std::string unit = dynamic ? "step" : o.steps > 0 ? "load_step" : "cycle";
+  const std::string unit = bench_unit(o, dynamic);
   auto first = [&](std::size_t k) {  // backend k's first repeat
     for (const auto& s : samples)
       if (s.backend == backends[k].name()) return &s;
@@ -563,10 +569,7 @@ int bench(const BenchOptions& o) {
   std::cout << "\n";
 
   if (!o.compare.empty())  // a reference of another deck or units: refused before anything is timed
-    (void)compare_reference(o, {{"bricks", specimen.size()},
-                                {"unit", dynamic       ? "step"
-                                         : o.steps > 0 ? "load_step"
-                                                       : "cycle"}});
+    (void)compare_reference(o, {{"bricks", specimen.size()}, {"unit", bench_unit(o, dynamic)}});
   std::vector<Bounds> bounds;
   for (const auto& b : backends) bounds.push_back(b.visit([](const auto& s) { return measure_bounds(s); }));
   std::vector<Sample> samples;

@@ -138,10 +138,11 @@ void add_elements(Build<Mem>& B) {
   // Found through a key of the coordinates rounded to a coarse grid (1000 tol): rounded to tol
   // itself, the rounding noise of node positions taken relative to centroids far from the
   // origin fell on cell boundaries and split equal shapes (a 98,325-brick wall: 36 types, 13
-  // with the coarse key; a 980,535-brick one: 3,039, 669). The coarse cell lists its types; a shape near one of
-  // its edges may still start a type of its own. With the shoelace taken relative to each
-  // brick's first vertex (geometry/specimen.cpp) the centroids carry ~1e-14 mm, not ~4e-11 mm
-  // (about tol): both walls have 2 types, a whole brick and a half brick at the row ends.
+  // with the coarse key; a 980,535-brick one: 3,039, 669). The coarse cell lists its types; a
+  // shape near one of its edges may still start a type of its own. With the shoelace taken
+  // relative to each brick's first vertex (geometry/specimen.cpp) the centroids carry ~1e-14 mm,
+  // not ~4e-11 mm (about tol): both walls have 2 types, a whole brick and a half brick at the
+  // row ends.
   const double tol = 1e-9 * std::sqrt(std::max(s.full_brick_area, 1e-300)), cell = 1000.0 * tol;
   KeyMap<1 + 2 * kMaxNodes, std::vector<int>> type_of_shape;  // coarse cell -> its types
   type_of_shape.reserve(64);
