@@ -9,7 +9,7 @@ set(_nacre_aes_env "${NACRE_TEST_ENV};NACRE_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 # independence, uniformity and serial-correlation smoke tests (label rng). Each is registered for
 # the default thread count by nacre_add_test and again for 1 and 2 threads explicitly.
 nacre_add_test(test_aes LABELS aes SOURCES aes/test_aes.cpp LIBS OpenSSL::Crypto)
-nacre_add_test(test_aes_sources LABELS aes SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
+nacre_add_test(test_aes_sources LABELS aes rng SOURCES aes/test_aes_sources.cpp LIBS OpenSSL::Crypto)
 # The cipher compiled like src/aes (-march=native): the x86 GFNI transposition where the build
 # machine has it, checked against the portable path and OpenSSL.
 nacre_add_test(test_aes_native LABELS aes SOURCES aes/test_aes_native.cpp LIBS OpenSSL::Crypto)
@@ -28,29 +28,14 @@ int main() { return 0; }" NACRE_AES_HAS_GFNI)
     message(STATUS "nacre: no GFNI on this build machine: AES uses the portable transposition")
   endif()
 endif()
+# (nacre_add_test labels the default-thread cases "aes"; these the 1- and 2-thread ones; the
+# sources' cases also "rng")
 foreach(_t 1 2)
-  catch_discover_tests(test_aes TEST_SUFFIX " [${_t} thread(s)]" TEST_LIST nacre_test_aes_${_t}t
+  nacre_discover_tiers(test_aes "aes" LIST nacre_test_aes_${_t}t SUFFIX " [${_t} thread(s)]"
     EXTRA_ARGS --kokkos-num-threads=${_t})
-  catch_discover_tests(test_aes_sources TEST_SUFFIX " [${_t} thread(s)]"
-    TEST_LIST nacre_test_aes_sources_${_t}t
+  nacre_discover_tiers(test_aes_sources "aes;rng" LIST nacre_test_aes_sources_${_t}t SUFFIX " [${_t} thread(s)]"
     EXTRA_ARGS --kokkos-num-threads=${_t})
 endforeach()
-# Several labels per discovered test: catch_discover_tests flattens a LABELS list into separate
-# arguments, so the labels are set by a CTest include file that runs after the discovery files.
-file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/nacre_aes_test_labels.cmake [=[
-foreach(_v test_aes_TESTS nacre_test_aes_1t nacre_test_aes_2t)
-  if(DEFINED ${_v})
-    set_tests_properties(${${_v}} PROPERTIES LABELS "aes" ENVIRONMENT "${NACRE_TEST_ENV}")
-  endif()
-endforeach()
-foreach(_v test_aes_sources_TESTS nacre_test_aes_sources_1t nacre_test_aes_sources_2t)
-  if(DEFINED ${_v})
-    set_tests_properties(${${_v}} PROPERTIES LABELS "aes;rng" ENVIRONMENT "${NACRE_TEST_ENV}")
-  endif()
-endforeach()
-]=])
-set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES
-  ${CMAKE_CURRENT_BINARY_DIR}/nacre_aes_test_labels.cmake)
 
 # Constant time under valgrind memcheck: key and plaintext are marked undefined; memcheck
 # reports any conditional jump or memory address computed from them. nacre's AES must pass,
@@ -75,7 +60,7 @@ if(NACRE_VALGRIND)
            COMMAND sh ${CMAKE_CURRENT_LIST_DIR}/expect_memcheck_error.sh
                    ${_vg} $<TARGET_FILE:nacre_aes_ct_check> table)
   set_tests_properties(aes_constant_time_nacre aes_constant_time_table_is_caught PROPERTIES
-    LABELS "aes;constant-time" ENVIRONMENT "${_nacre_aes_env}" TIMEOUT 120)
+    LABELS "aes;constant-time;quick" ENVIRONMENT "${_nacre_aes_env}" TIMEOUT 120)
 elseif(NOT NACRE_SANITIZE)
   message(WARNING "nacre: valgrind not found; the AES constant-time tests are not registered")
 endif()
