@@ -106,7 +106,7 @@ TEST_CASE("interface energy: uniform opening of a rigid pair, and its force", "[
   CHECK(interface_energy(law, q, sg, ra, rb) == Catch::Approx(0.0).margin(1e-20));
 }
 
-TEST_CASE("law: Cartesian and local forms agree; the traction is the gradient of the density",
+TEST_CASE("law: Cartesian and local forms agree, the traction is the gradient of the density",
           "[cohesive]") {
   std::mt19937_64 gen(7);
   std::uniform_real_distribution<double> U(-0.05, 0.05), A(0.0, 6.283185307179586);

@@ -48,7 +48,7 @@ TEST_CASE("a steady trend never converges", "[mc][convergence]") {
   CHECK(mon.last().r2 > 0.99);
 }
 
-TEST_CASE("relative STOL is independent of the energy scale; absolute STOL is not", "[mc][convergence]") {
+TEST_CASE("relative STOL is independent of the energy scale, absolute STOL is not", "[mc][convergence]") {
   auto run = [](double scale, bool relative) {
     ConvergenceMonitor mon(50, 10, 1e-4, 0.5, relative);
     std::mt19937_64 gen(11);

@@ -26,7 +26,7 @@ namespace {
 const Law law{100.0, 0.01, 0.03};  // plateau to 0.03, rupture at 0.04, work to failure 0.03
 }
 
-TEST_CASE("damage: psi is C1 at the history; D(kappa) is the area above the secant", "[damage]") {
+TEST_CASE("damage: psi is C1 at the history, D(kappa) is the area above the secant", "[damage]") {
   const double x12 = law.x1 + law.x2;
   for (double kappa : {0.5 * law.x1, law.x1, 0.02, 0.035, x12, 2 * x12}) {
     CAPTURE(kappa);

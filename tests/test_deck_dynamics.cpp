@@ -189,7 +189,7 @@ TEST_CASE("deck dynamics: bie_scheme = \"auto\" takes the split step where C != 
   CHECK(scheme("damping = \"none\"\nbie_scheme = \"split\"\n") == BieScheme::split);
 }
 
-TEST_CASE("deck dynamics: quadrature_points reaches the solver; BIE keys with another method and misspelt keys are named",
+TEST_CASE("deck dynamics: quadrature_points reaches the solver, BIE keys with another method and misspelt keys are named",
           "[deck][dyn]") {
   const Deck d = parse_deck_string(base + "quadrature_points = 2\n", "dyn.toml");
   CHECK(d.dynamics.quadrature_points == 2);

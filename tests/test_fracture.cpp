@@ -55,7 +55,7 @@ deck::Geometry rotated(double width, double height, double notch_length, double 
 
 }  // namespace
 
-TEST_CASE("crack: an intact specimen has no crack; its tip is the notch tip", "[fracture]") {
+TEST_CASE("crack: an intact specimen has no crack, its tip is the notch tip", "[fracture]") {
   Fixture F;
   const fracture::CrackTracker t(F.w.s, F.w.f, F.g);
   std::vector<int> st(F.w.f.size(), 0);

@@ -320,7 +320,7 @@ TEST_CASE("a restart fingerprint names the first differing key", "[io][checkpoin
   CHECK_THAT(refused(replaced("notch_length = 7.0\n", "")), ContainsSubstring("geometry.notch_length = 7 in the checkpoint, not set in b.toml"));
 }
 
-TEST_CASE("absurd decks are refused from estimates with file, line and key; limits are raisable", "[deck][limits]") {
+TEST_CASE("absurd decks are refused from estimates with file, line and key, limits are raisable", "[deck][limits]") {
   const std::string base = "[geometry]\nwidth = 40.0\nheight = 24.0\nbrick_width = 3.5\nbrick_height = 1.0\n"
                            "notch_length = 14.0\n[mortar]\nk = 100.0\nx1 = 0.002\nx2 = 0.004\n"
                            "[load]\nfinal_displacement = 0.05\n";
@@ -365,7 +365,7 @@ TEST_CASE("the brick estimate bounds the specimen actually built", "[deck][limit
   }
 }
 
-TEST_CASE("colouring = auto is a fixed rule; fastest times the candidates and keeps its pick", "[mc][colouring]") {
+TEST_CASE("colouring = auto is a fixed rule, fastest times the candidates and keeps its pick", "[mc][colouring]") {
   auto d = mc_deck();
   auto s = geometry::build_specimen(d.geometry);
   auto f = geometry::find_interfaces(s, d.geometry);

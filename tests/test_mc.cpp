@@ -89,7 +89,7 @@ TEST_CASE("elastic limit: the Monte Carlo minimum matches the exact linear solve
   CHECK((e - exact) / exact < 1e-4);  // stated tolerance: relative energy error 1e-4
 }
 
-TEST_CASE("tracked energy equals the exact reduction; zero load gives zero energy", "[mc]") {
+TEST_CASE("tracked energy equals the exact reduction, zero load gives zero energy", "[mc]") {
   auto d = small_deck();
   d.solver.temperature = 1e-6;
   d.solver.step = 1e-4, d.solver.min_step = 1e-4, d.solver.max_step = 1e-4;

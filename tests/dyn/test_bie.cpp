@@ -535,7 +535,7 @@ TEST_CASE("bie: with Table 4.2's damping the split step converges at second orde
   CHECK(order < 2.2);
 }
 
-TEST_CASE("bie: energy balance closes with damping; save_state / restore_state bit for bit", "[dyn][bie][restart]") {
+TEST_CASE("bie: energy balance closes with damping, save_state / restore_state bit for bit", "[dyn][bie][restart]") {
   const auto st = make(wall(3, 4));
   auto p = loaded(50, dyn::Method::bie);
   p.bie_scheme = GENERATE(dyn::BieScheme::iterate, dyn::BieScheme::split);

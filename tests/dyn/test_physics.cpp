@@ -234,7 +234,7 @@ TEST_CASE("dyn physics: undamped, unruptured runs conserve energy over 1e5 steps
   }
 }
 
-TEST_CASE("dyn physics: the critical step is 2/omega_max; above it a run is caught, below it is stable",
+TEST_CASE("dyn physics: the critical step is 2/omega_max, above it a run is caught, below it is stable",
           "[dyn][physics][stability][.tiny]") {
   const auto st = make(wall(2, 3));
   for (double r : {1.0, 500.0})

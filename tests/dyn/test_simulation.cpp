@@ -69,7 +69,7 @@ TEST_CASE("dyn: save_state / restore_state continue bit for bit", "[dyn][restart
   }
 }
 
-TEST_CASE("dyn: element types are shared; bytes per brick with and without sharing", "[dyn][memory]") {
+TEST_CASE("dyn: element types are shared, bytes per brick with and without sharing", "[dyn][memory]") {
   const auto st = make(wall(20, 60, 8));  // 20 bricks x 60 rows, notch 8 bricks long
   for (auto method : {dyn::Method::be, dyn::Method::ue}) {
     auto p = params(50, method);
