@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # A header-only library without its CMake package: an imported target over the directory that
 # holds HEADER (toml++, CLI11, nlohmann-json).
 function(nacre_header_only target var header)

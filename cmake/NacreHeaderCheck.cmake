@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # NACRE_HEADER_CHECK (CI's default build): every public header compiled alone, twice in one
 # translation unit, so a header that leans on what its includer happened to include first, or
 # whose guard is missing, fails the build. One object per header at -O0 (the check is about

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Warnings are on for nacre's own targets (not for third-party headers, included as SYSTEM).
 # NACRE_WERROR (CI: the cuda-build of devenv/nacre-env) turns them into errors: the host
 # compiler's (-Werror) and, under Kokkos' nvcc_wrapper, nvcc's own (--Werror=all-warnings).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Sweep schedules compared on the quantities that decide between them: number of colours (one
 // parallel launch and one barrier each per cycle), balance (largest colour / mean colour: the
 // largest colour bounds a cycle's critical path when colours are small), and the time to colour

@@ -19,13 +19,14 @@ Writes OUT_DIR/accuracy.csv, accuracy.md and accuracy.png (error against wall ti
 and step). Every run must end "done" with closed books; the script exits 1 otherwise.
 """
 import csv
-import json
 import math
 import os
 import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from nacre import Run, read_json  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 
 def write_deck(out, name, method, dt, sample, end_time=None, every=None):
@@ -62,9 +63,9 @@ def run(exe, out, name, method, dt, sample, end_time=None, fraction=None, timed=
     if timed:
         tdeck = write_deck(out, name + "_timing", method, dt, sample, end_time, every=100)
         subprocess.run([exe, tdeck, "--overwrite", "-q"], capture_output=True, text=True)
-        seconds = json.load(open(os.path.join(out, name + "_timing", "summary.json")))["seconds"]
-    summ = json.load(open(os.path.join(d, "summary.json")))
-    rows = list(csv.DictReader(open(os.path.join(d, "series.csv"))))
+        seconds = read_json(os.path.join(out, name + "_timing", "summary.json"))["seconds"]
+    run_ = Run(d)
+    summ, rows = run_.summary, run_.rows()
     F = [float(r["reaction"]) for r in rows]
     t = [float(r["time"]) for r in rows]
     k = max(range(len(F)), key=lambda i: F[i])
@@ -188,7 +189,7 @@ def main():
     runs.append(r)
     L = ref["final_extension"]
     v_ref = crack_speed(ref, L)
-    rayleigh = json.load(open(os.path.join(out, ref["run"], "summary.json")))["crack"]["rayleigh_speed"]
+    rayleigh = read_json(os.path.join(out, ref["run"], "summary.json"))["crack"]["rayleigh_speed"]
     for r in runs:
         r["reference"] = r is ref
         r["peak_error"] = (r["peak"] - ref["peak"]) / ref["peak"]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Critical step (largest stable explicit step, dyn::critical_step: bisection to a relative
 // tolerance, blow-up criterion in docs/dynamics.md) against the stiffness ratio r for UE and BE
 // (Fig. 4.6), with and without Table 4.2 damping. The UE/BE gap is compared with

@@ -14,13 +14,14 @@ each); default: the README decks (~2,000 bricks) over their full 30 us. Writes O
 and hostile.md (the table in docs/methods.md) and exits 1 if any case breaks the rule above.
 """
 import csv
-import json
 import os
 import subprocess
 import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from nacre import read_json, read_rows  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 
 def deck_text(base, method, angle, extra_dyn, extra_load, small, outdir):
@@ -115,8 +116,8 @@ def main():
         t0 = time.time()
         p = subprocess.run([exe, deck, "--overwrite", "-q"], capture_output=True, text=True)
         wall = time.time() - t0
-        summ = json.load(open(os.path.join(d, "summary.json"))) if os.path.exists(os.path.join(d, "summary.json")) else {}
-        series = list(csv.DictReader(open(os.path.join(d, "series.csv")))) if os.path.exists(os.path.join(d, "series.csv")) else []
+        summ = read_json(os.path.join(d, "summary.json"))  # {} / [] where the run wrote none
+        series = read_rows(os.path.join(d, "series.csv"))
         worst = max((abs(float(r["balance_residual"])) for r in series if int(r["step"]) >= 32), default=0.0)
         tol = summ.get("balance_tolerance", 1e-3)
         status = summ.get("status", "?")

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Time per step of the explicit dynamics (UE, BE) against the number of bricks, set against the
 // memory-bandwidth bound measured in the same run: bytes a step must move at least are counted
 // from the model's array sizes (Simulation::step_bytes: every model view read once, the state

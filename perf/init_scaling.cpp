@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Initialisation time against specimen size (Fig. 2.9's O(N) claim): wall construction,
 // interface search, colouring and model upload, for 10k .. 1M bricks; and the dynamics model
 // (dyn::build_model: element types, tiles, interfaces, gather list) for BE and UE, with shared

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Why: Kokkos Tools (space-time-stack) are not installed in the dev root, but Kokkos core lets a
 // program register the tool callbacks itself. This header times every labelled kernel

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Why: Kokkos Tools (space-time-stack, kernel-timer) are not installed in the dev root, and
 // perf/kernel_timer.hpp only serves a benchmark that registers it. This is a tool library any
 // nacre run can load (KOKKOS_TOOLS_LIBS=build/openmp/perf/libnacre_kp_timer.so): wall time and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // This core's measured peaks, for the bound of the Monte Carlo sweep (perf/README.md, "Bound"):
 // double-precision flop rate with the instructions the build may use (independent multiply-add
 // chains: the portable x86-64 build has no FMA, -march=native has; 1 lane and the compiler's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Sweep throughput (brick trials per second) of nacre's colour-parallel Kokkos sweep against a
 // plain serial reference written the obvious way: array of structs, bricks visited in wall
 // order (no colouring), std::mt19937_64 for the random numbers, every trial evaluating the

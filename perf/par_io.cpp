@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The outputs of a Monte Carlo run spread over MPI ranks (docs/scaling.md, "Outputs"): what the
 // gather to rank 0 costs against the write itself and against a cycle. Per repetition: the
 // dump's fields gathered (mc::snapshot: poses, brick and interface energies and states), the

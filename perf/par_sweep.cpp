@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Monte Carlo colour sweeps spread over MPI ranks (include/nacre/par/): time per cycle split
 // into the sweep and the halo exchange (pack, MPI, unpack, the stale energies recomputed), the
 // bytes and messages a cycle sends, the halo's size and the load balance, for strong scaling (a

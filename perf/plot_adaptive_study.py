@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
 """Summarise perf/run_adaptive_study.sh: cycles, time, speed-up and accuracy per variant."""
-import csv
 import json
 import os
 import sys
@@ -10,12 +9,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nacre import Run  # noqa: E402  (the reader of nacre's outputs, python/nacre)
+
 out = sys.argv[1]
 names = ["fixed", "steps", "load", "predictor", "per-brick"]
 runs = {}
 for n in names:
-    rows = list(csv.DictReader(open(os.path.join(out, n, "steps.csv"))))
-    s = json.load(open(os.path.join(out, n, "summary.json")))
+    run = Run(os.path.join(out, n))
+    rows, s = run.rows(), run.summary
     D = np.array([0.0] + [float(r["displacement"]) for r in rows])
     E = np.array([0.0] + [float(r["energy"]) for r in rows])
     runs[n] = {"D": D, "E": E, "cycles": s["cycles"], "seconds": s["seconds"], "steps": len(rows)}

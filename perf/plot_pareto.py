@@ -11,10 +11,12 @@ Errors (each relative, against the run named "reference"):
 Curves are piecewise linear between converged steps, starting at (0, 0).
 """
 import csv
-import json
 import math
 import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nacre import read_json, read_rows  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 out = sys.argv[1]
 names = sorted(d for d in os.listdir(out) if os.path.isfile(os.path.join(out, d, "time.txt"))
@@ -23,14 +25,14 @@ names = sorted(d for d in os.listdir(out) if os.path.isfile(os.path.join(out, d,
 
 def load(name):
     d = os.path.join(out, name)
-    rows = list(csv.DictReader(open(os.path.join(d, "steps.csv")))) if os.path.exists(os.path.join(d, "steps.csv")) else []
+    rows = read_rows(os.path.join(d, "steps.csv"))  # [] where the run wrote none
     D = [0.0] + [float(r["displacement"]) for r in rows]
     E = [0.0] + [float(r["energy"]) for r in rows]
     F = [0.0] + [float(r["reaction"]) for r in rows]
     rup = [0] + [int(r["ruptured"]) for r in rows]
     res = [float(r["residual"]) for r in rows]
     user, sysc, wall = (float(x) for x in open(os.path.join(d, "time.txt")).read().split()[-3:])
-    summary = json.load(open(os.path.join(d, "summary.json")))
+    summary = read_json(os.path.join(d, "summary.json"))
     exit_code = int(open(os.path.join(d, "exit_code")).read()) if os.path.exists(os.path.join(d, "exit_code")) else 0
     return dict(name=name, D=D, E=E, F=F, rup=rup, max_residual=max(res) if res else float("nan"),
                 cpu=user + sysc, wall=wall, steps=len(rows), exit=exit_code,

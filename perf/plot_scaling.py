@@ -10,11 +10,13 @@ iterations; FIRE steps); writes OUTDIR/scaling.csv, scaling.md and scaling.png.
     perf/plot_scaling.py --compare OUT DIR1 DIR2 ...   (one study per relaxation, e.g.
         perf/run_scaling_methods.sh's: OUT/scaling_methods.md and .png, exponents side by side)"""
 import csv
-import json
 import math
 import os
 import re
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nacre import Run  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 
 def relaxation_of(run_dir):
@@ -30,10 +32,11 @@ def load(out):
                 and os.path.exists(os.path.join(p, "summary.json"))):
             continue
         user, sysc, wall = (float(x) for x in open(os.path.join(p, "time.txt")).read().split()[-3:])
-        s = json.load(open(os.path.join(p, "summary.json")))
+        run = Run(p)
+        s = run.summary
         m = re.search(r"bricks, \d+ interfaces \(([0-9.eE+-]+) s\)", open(os.path.join(p, "log.txt")).read())
         init = float(m.group(1)) if m else float("nan")
-        steps = list(csv.DictReader(open(os.path.join(p, "steps.csv"))))
+        steps = run.rows()
         tp = os.path.join(p, "threads")
         threads = int(open(tp).read()) if os.path.exists(tp) else 1
         rows.append(dict(bricks=s["bricks"], free=s["free_bricks"], steps=s["steps"], cycles=s["cycles"],

@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
 """Chart the per-phase time of perf/run_time_split.sh runs (one stacked bar per generator)."""
-import json
 import os
 import sys
 
@@ -8,11 +7,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nacre import read_json  # noqa: E402  (the reader of nacre's outputs, python/nacre)
+
 out = sys.argv[1]
 gens = ["philox", "aes-ctr", "mt-aes"]
 rows = []
 for g in gens:
-    s = json.load(open(os.path.join(out, g, "summary.json")))
+    s = read_json(os.path.join(out, g, "summary.json"))
     p = s["phase_seconds"]
     other = max(s["seconds"] - p["sweep"] - p["energy"] - p["rng"], 0.0)
     rows.append({"generator": g, "bricks": s["bricks"], "cycles": s["cycles"], "total_s": s["seconds"],

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Which polish reaches a residual faster: from one Monte Carlo state of a deck's
 // specimen at a load D (same seed, so the same state for every method), FIRE and colour-swept
 // block Newton are run to decreasing tolerances; each row is the cumulative wall time and

@@ -6,13 +6,23 @@
 #
 #   perf/run_pareto_sequence.sh OUT BASE_NACRE BASE_TAG [DECKS]
 #
-# DECKS: the folder with newton-reference/deck.toml and reference/deck.toml (default
-# perf/results/pareto_newton10). NACRE_APP: this build's binary (default build/openmp/src/nacre).
+# DECKS: the folder with newton-reference/deck.toml and reference/deck.toml, e.g. the output of
+# `NACRE_PARETO_VARIANTS=reference,newton-reference perf/run_pareto.sh DIR`. Default: the decks of
+# the study docs/speed_accuracy.md quotes (perf/results/pareto_newton10, run of 2b386fc), taken
+# from git history (the tree keeps no per-run folders: perf/README.md, "Kept results").
+# NACRE_APP: this build's binary (default build/openmp/src/nacre).
 # Writes OUT/<run>/{log.txt,time.txt,run/} and appends "run user_s sys_s wall_s" to
 # OUT/sequence.txt; runs from the host through devenv/nacre-env.
 set -euo pipefail
 [ $# -ge 3 ] || { echo "usage: $0 OUT BASE_NACRE BASE_TAG [DECKS]" >&2; exit 2; }
-out="$1" base="$2" tag="$3" decks="${4:-perf/results/pareto_newton10}"
+out="$1" base="$2" tag="$3" decks="${4:-}"
+if [ -z "$decks" ]; then
+  decks="$(mktemp -d)"
+  for r in newton-reference reference; do
+    mkdir -p "$decks/$r"
+    git show "2b386fc:perf/results/pareto_newton10/$r/deck.toml" > "$decks/$r/deck.toml"
+  done
+fi
 app="${NACRE_APP:-build/openmp/src/nacre}"
 for f in "$decks/newton-reference/deck.toml" "$decks/reference/deck.toml" "$app" "$base"; do
   [ -e "$f" ] || { echo "$0: $f: not found" >&2; exit 2; }

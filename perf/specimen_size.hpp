@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Specimen dimensions for a target brick count (benchmarks): 3.5 x 1 bricks, 3:2 aspect,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The host backends of the installed Kokkos, as a type list for Catch2's
 // TEMPLATE_LIST_TEST_CASE (Cabana style): a test written once runs on Kokkos::Serial and on

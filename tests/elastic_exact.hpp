@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The exact minimum of the linearised (small-rotation, elastic) spring network of a specimen: the
 // closed form the Monte Carlo and Newton tests check their elastic minima against.

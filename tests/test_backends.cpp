@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Monte Carlo kernels, written once, run on every enabled host backend (tests/backends.hpp)
 // and must leave the same bits as on the default execution space: energies, rupture counts,
 // and the poses after a series of colour sweeps with fixed uniforms. The deterministic sum and

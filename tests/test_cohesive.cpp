@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The cohesive law (MODEL.md §2), its integration along an interface (energy and end forces from
 // one quadrature loop), the law table by joint kind, and the rigid-brick gap.
 #include <nacre/cohesive/law_table.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Graph colouring of the free bricks.
 #include "wall_specimen.hpp"
 #include <nacre/mc/colouring.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The sliding-window convergence test.
 #include <nacre/mc/convergence.hpp>
 

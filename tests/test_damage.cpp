@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Irreversible damage (cohesive/damage.hpp): the law with a history against its closed forms, one
 // joint's load-unload-reload loop (its area is the dissipated energy), segment forces = the
 // gradient of the segment energy at a fixed history, and the Monte Carlo load programme on a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Deck parsing: every error class names file, line, key and what was expected.
 #include <nacre/deck/deck.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The [dynamics] section: defaults, every key read, and every error naming file, line and key.
 #include <nacre/app/run_dynamics.hpp>
 #include <nacre/deck/deck.hpp>

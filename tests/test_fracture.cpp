@@ -1,18 +1,23 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The crack reading (fracture/crack.hpp) against cracks drawn by hand on a notched running-bond
 // wall, where tip, extension, path length, deflection and joint counts are known exactly; the
 // Rayleigh speed against the classical root for a Poisson solid.
 #include <nacre/fracture/crack.hpp>
+#include <nacre/fracture/r_curve.hpp>
+#include <nacre/io/csv.hpp>
 
 #include "wall_specimen.hpp"
 
 #include <catch2/catch_approx.hpp>
 #include <catch2/catch_test_macros.hpp>
+#include <catch2/matchers/catch_matchers_string.hpp>
 
 #include <cmath>
 #include <vector>
 
 using namespace nacre;
 using Catch::Approx;
+using Catch::Matchers::ContainsSubstring;
 
 namespace {
 
@@ -214,4 +219,33 @@ TEST_CASE("Rayleigh speed: the Poisson solid's root, plane stress", "[fracture]"
   CHECK(fracture::rayleigh_speed_plane_stress(E, 0.35, rho) / cs2 ==
         Approx((0.862 + 1.14 * n2) / (1 + n2)).epsilon(5e-3));
   CHECK_THROWS(fracture::rayleigh_speed_plane_stress(-1.0, 0.3, rho));
+}
+
+TEST_CASE("the R-curve: a point where the extension grows, G_R per unit thickness, the toughening ratio over the second half",
+          "[fracture][r_curve]") {
+  // rows before the crack leaves the notch (the last one is the base), a repeated extension skipped
+  const std::vector<double> a{0, 0, 1, 2, 2, 3}, w{0, 0.5, 1.5, 3.5, 3.6, 5.6};
+  const fracture::RCurve c = fracture::r_curve(a, w, 2.0, 0.5);
+  REQUIRE(c.points.size() == 3);
+  CHECK(c.points[0].extension == 1);
+  CHECK(c.points[0].G_R == 0.5);  // (1.5 - 0.5) / 1 / 2
+  CHECK(c.points[0].toughening == 1);
+  CHECK(c.points[1].G_R == 1);  // (3.5 - 1.5) / 1 / 2
+  CHECK(c.points[2].G_R == Catch::Approx(1.05).epsilon(1e-15));  // from the point before, not the skipped row
+  // the second half: from the first point at or past 1.5 (extension 2) to the last
+  CHECK(c.toughening_ratio == Catch::Approx((5.6 - 3.5) / 1 / 2 / 0.5).epsilon(1e-15));
+  const std::string csv = fracture::r_curve_csv(c);
+  CHECK(csv.starts_with("extension,fracture_energy,G_R,toughening\n1,1.5,0.5,1\n"));
+  const io::CsvTable back = io::parse_csv(csv, "r_curve.csv");
+  CHECK(back.numbers("G_R") == std::vector<double>{c.points[0].G_R, c.points[1].G_R, c.points[2].G_R});
+  SECTION("one point: no ratio") {
+    CHECK(std::isnan(fracture::r_curve({0, 1}, {0, 1}, 1, 1).toughening_ratio));
+    CHECK(fracture::r_curve({0, 0}, {0, 0}, 1, 1).points.empty());
+  }
+  SECTION("a table with a row short of a field, or text where a number belongs, is refused by name") {
+    CHECK_THROWS_WITH(io::parse_csv("a,b\n1,2\n3\n", "t.csv"), ContainsSubstring("t.csv:3"));
+    CHECK_THROWS_WITH(io::parse_csv("a,b\n1,x\n", "t.csv").numbers("b"), ContainsSubstring("'x' is not a number"));
+    CHECK_THROWS_WITH(io::parse_csv("a,b\n1,2\n", "t.csv").numbers("c"), ContainsSubstring("no column 'c'"));
+    CHECK(io::parse_csv("a,method\n1,newton\n", "t.csv").rows[0][1] == "newton");
+  }
 }

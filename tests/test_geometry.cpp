@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Specimen construction and interface detection on small hand-checked walls.
 #include <nacre/geometry/specimen.hpp>
 

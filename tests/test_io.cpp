@@ -1,7 +1,9 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Outputs and checkpoints: atomic commits that keep the previous file on a failed write,
 // checkpoints whose checksum catches any change, MC checkpoint range checks (with valid
 // checksums, so only the range check can refuse them), restart fingerprints that name the
 // differing key, strict dump names, stale temporaries, and the colouring rule.
+#include <nacre/core/build_info.hpp>
 #include <nacre/app/restart.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/simulation.hpp>
@@ -379,9 +381,12 @@ TEST_CASE("colouring = auto is a fixed rule, fastest times the candidates and ke
   d.solver.presim_cycles = 2;
   const mc::Solver b(d, s, f);
   CHECK(b.presim().size() == mc::colouring_strategies().size());
-  const std::string json = mc::summary_json(b, d, 0, 0.0, fracture::CrackReading{}, 0.0);
+  const std::string json = mc::summary_json(b, d, 0, 0.0, fracture::CrackReading{}, 0.0, 1.5);
   CHECK_THAT(json, ContainsSubstring("\"presimulation_pick\": \"" + b.model().colouring_name + "\""));
   CHECK_THAT(json, ContainsSubstring("\"colouring_rule\": \"fastest\""));
+  CHECK_THAT(json, ContainsSubstring("\"toughening_ratio\": 1.5"));
+  CHECK_THAT(json, ContainsSubstring("\"version\": \"" + build_info().version + "\""));
+  CHECK_THAT(json, ContainsSubstring("\"commit\": \"" + build_info().commit + "\""));
 }
 
 TEST_CASE("two states are compared array by array, each at its own scale", "[io][bench]") {

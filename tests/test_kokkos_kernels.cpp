@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Kokkos Kernels in nacre: the "kokkos-d1" sweep schedule (KokkosGraph distance-1 colouring) and
 // the KokkosBatched dense kernels part 4b will use (batched GEMV, LU solve), each checked
 // against a plain loop. Built only when CMake finds Kokkos Kernels.

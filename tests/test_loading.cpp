@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Loading: the prescribed-displacement pattern (a displacement at a point), the rigid pose a
 // driven brick derives from it, and the time ramp D(t) with its derivatives.
 #include <nacre/loading/pattern.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Catch2 main for every nacre test: Kokkos is initialised once per test process, and any
 // --kokkos-* arguments (e.g. --kokkos-num-threads=2) reach Kokkos, not Catch2. Built with
 // NACRE_TEST_MPI (tests/par: mpiexec starts one per rank) MPI comes first; every rank runs every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Monte Carlo solver: the elastic limit against an exact linear solve, energy bookkeeping,
 // determinism (same bits for 1 and 2 threads: see tests/CMakeLists.txt).
 #include <nacre/mc/output.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The host sweep's batched trials (mc::BatchedTrials: 8 same-colour work items side by side,
 // vectorised) against the per-brick scalar trials (mc::ScalarTrials, the GPU schedule): same
 // proposals, same energies, same acceptances, so the same poses and cached energies bit for bit,

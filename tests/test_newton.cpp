@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The trust-region Newton minimiser (relaxation = "newton", "auto"; mc/trust_region.hpp): its
 // Hessian-vector product against finite differences of the exact gradient away from kinks, and
 // symmetric; the elastic minimum against the closed form; a cracking load path converged step

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Converged means converged: the exact gradient against finite differences of the
 // energy, the polish (FIRE, block Newton) reaching the residual without raising the energy, the
 // reaction column against a finite difference of the energy column of a converged run (after

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The generator interface and Philox.
 #include <nacre/rng/philox.hpp>
 #include <nacre/rng/registry.hpp>

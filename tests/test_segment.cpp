@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The cohesive law integrated along a segment with a linear gap (cohesive/segment.hpp): energy and
 // end forces exact on every branch, against an independent long-double reference (branch points
 // found by bisection, composite 8-point Gauss-Legendre on each smooth piece), forces against

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A notched running-bond wall and its brick graph, shared by the colouring tests (nacre's own
 // strategies and Kokkos Kernels' distance-1 colouring run on the same specimens) and the Monte

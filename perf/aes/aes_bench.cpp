@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Throughput of nacre's bitsliced AES-128-ECB, OpenSSL's AES-128-ECB and -CTR (EVP) and of
 // random-number generators (Random123 Philox, nacre's Philox, AES-CTR and MT+AES sources).
 //

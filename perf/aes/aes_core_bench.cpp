@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The bare bitsliced AES core on one thread, without the Kokkos kernel: where the time goes.
 //
 //   nacre_aes_core_bench [--rounds=5] [--min-time=0.3]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Benchmarks of nacre's bitsliced AES and the AES random-number sources (included from
 # perf/CMakeLists.txt). Driver scripts: perf/aes/run_aes_bench.sh, perf/aes/run_dieharder.sh.
 include(${PROJECT_SOURCE_DIR}/src/aes/aes.cmake)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Raw output of nacre's generators on stdout, for dieharder (-g 200 reads raw binary on stdin).
 //
 //   nacre_rng_stream --gen=aes-ctr|mt-aes|philox|mt [--seed=N] [--streams=S] [--bytes=N]

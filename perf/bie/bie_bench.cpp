@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Chapter 4's experiments for the three dynamic methods (issue 8): critical step against
 // stiffness ratio, time per step against bricks (and the J^-1 apply variants alone), total
 // speed-up to the same simulated time, strain-energy error against step (fitted order), memory

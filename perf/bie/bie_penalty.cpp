@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Why a cracking BIE deck blows up at a step its intact specimen takes (issue 8): runs a deck
 // (default inputs/dynamic_bie.toml) with BIE at several steps and records, every few steps, the
 // largest interpenetration of the bed/head joints relative to x1 (Simulation::max_penetration),

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Build options of nacre's bitsliced AES (src/aes). Included from src/CMakeLists.txt after
 # nacre_lib is defined (tests/aes/tests.cmake and perf/aes/perf.cmake include it too, guarded).
 include_guard(GLOBAL)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <nacre/aes/aes128.hpp>
 #include <nacre/aes/bitsliced_kernel.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <nacre/aes/aes_sources.hpp>
 #include <nacre/rng/on_batch.hpp>
 

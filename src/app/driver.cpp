@@ -1,25 +1,31 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared pieces of the run drivers (driver.hpp).
 #include "driver.hpp"
 
 #include <nacre/app/signals.hpp>
 
 #include <nacre/core/format.hpp>
+#include <nacre/fracture/r_curve.hpp>
+#include <nacre/io/atomic_file.hpp>
+#include <nacre/io/csv.hpp>
 #include <nacre/io/checkpoint.hpp>
 #include <nacre/io/names.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <spawn.h>
+#include <string_view>
 #include <sys/wait.h>
 
 extern char** environ;
 
-#ifndef NACRE_PLOT_SCRIPT
-#define NACRE_PLOT_SCRIPT ""
+#ifndef NACRE_SOURCE_PYTHON_DIR
+#define NACRE_SOURCE_PYTHON_DIR ""
 #endif
 
 namespace nacre::app {
@@ -45,6 +51,7 @@ io::RunWriter RunSession::open_writer(const io::RunWriter::Options& o, const geo
     if (resume->source_directory.empty()) resume->source_directory = ".";
   }
   io::RunWriter w(o, s, f, resume);
+  io::write_file_atomic(w.directory() / io::names::deck_copy, d_.text);  // the deck this run ran
   if (log_ && w.stale_temporaries_removed() > 0)
     *log_ << "nacre: removed " << w.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
           << w.directory().string() << "/\n";
@@ -64,7 +71,7 @@ int RunSession::complete(const io::RunWriter& w, const std::string& files, const
     std::cerr << "nacre: " << signal_name(sig) << " received during the last stretch: results complete, charts skipped\n";
     return 128 + sig;
   }
-  if (d_.output.charts && !run_charts(script, w.directory(), log_)) return 1;
+  if (d_.output.charts) run_charts(script, w.directory(), log_);  // a missing chart is a warning
   return 0;
 }
 
@@ -82,12 +89,22 @@ int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::funct
   return -1;
 }
 
-int spawn_and_wait(const std::vector<std::string>& argv) {
+int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env_set) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // this process's environment, with each "NAME=value" of env_set replacing its NAME
+  std::vector<char*> env;
+  for (char** e = environ; *e; ++e) {
+    const std::string_view kv(*e);
+    bool replaced = false;
+    for (const auto& s : env_set) replaced = replaced || kv.substr(0, kv.find('=') + 1) == s.substr(0, s.find('=') + 1);
+    if (!replaced) env.push_back(*e);
+  }
+  for (const auto& s : env_set) env.push_back(const_cast<char*>(s.c_str()));
+  env.push_back(nullptr);
   pid_t pid = 0;
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return kNotStarted;
+  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), env.data()) != 0) return kNotStarted;
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return kNotStarted;
@@ -145,33 +162,64 @@ void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool
                    ", write elsewhere with -o, or pass --overwrite to start afresh");
 }
 
-bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log) {
-  const char* env = std::getenv("NACRE_PLOT_SCRIPT");
-  const std::filesystem::path mc_script = env ? env : NACRE_PLOT_SCRIPT;
-  const std::filesystem::path script = mc_script.parent_path() / script_name;
+double write_r_curve(const io::RunWriter& w, double thickness, double gc, std::ostream* log) {
+  const io::CsvTable t = io::parse_csv(w.table(), (w.directory() / w.table_name()).string());
+  const fracture::RCurve c =
+      fracture::r_curve(t.numbers("crack_extension"), t.numbers("fracture_energy"), thickness, gc);
+  io::write_file_atomic(w.directory() / io::names::r_curve, fracture::r_curve_csv(c));
+  if (log)
+    *log << "nacre: R-curve: " << c.points.size() << " points, toughening ratio "
+         << (std::isfinite(c.toughening_ratio) ? format_real(c.toughening_ratio, 4)
+                                               : std::string("n/a (the crack grew at fewer than 2 rows)"))
+         << " (r_curve.csv)\n";
+  return c.toughening_ratio;
+}
+
+std::filesystem::path python_dir() {
   std::error_code ec;
-  if (mc_script.empty() || !std::filesystem::exists(script, ec)) {
-    std::cerr << "nacre: warning: plotting script " << script_name << " not found; charts skipped\n";
-    return true;
+  const auto has_package = [&ec](const std::filesystem::path& p) {
+    return !p.empty() && std::filesystem::is_regular_file(p / "nacre" / "__init__.py", ec);
+  };
+  if (const char* env = std::getenv("NACRE_PYTHON_DIR"); env && *env) return env;  // as asked, even if wrong
+  // an installed nacre: PREFIX/bin/nacre beside PREFIX/share/nacre/python
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "nacre" / "python";
+    if (has_package(installed)) return installed;
+  }
+  const std::filesystem::path source = NACRE_SOURCE_PYTHON_DIR;  // a build tree: the source's python/
+  if (has_package(source)) return source;
+  return {};
+}
+
+bool run_charts(const std::string& chart, const std::filesystem::path& dir, std::ostream* log) {
+  const std::filesystem::path py = python_dir();
+  std::error_code ec;
+  if (py.empty() || !std::filesystem::is_regular_file(py / "nacre" / "charts" / (chart + ".py"), ec)) {
+    std::cerr << "nacre: warning: the chart module nacre.charts." << chart << " was not found (set NACRE_PYTHON_DIR "
+              << "to the directory that holds the nacre Python package); charts skipped, the results are complete\n";
+    return false;
   }
   // an argument vector, no shell: the output path is never interpreted
-  std::vector<std::string> cmd{"python3", script.string(), dir.string()};
-  if (!log) cmd.emplace_back("--quiet");  // the scripts print their findings (toughening ratio) unless quiet
-  const int rc = spawn_and_wait(cmd);
+  std::vector<std::string> cmd{"python3", "-m", "nacre.charts." + chart, dir.string()};
+  if (!log) cmd.emplace_back("--quiet");
+  const char* old = std::getenv("PYTHONPATH");
+  const std::string path = "PYTHONPATH=" + py.string() + (old && *old ? ":" + std::string(old) : std::string());
+  const int rc = spawn_and_wait(cmd, {path});
   if (rc == kNotStarted) {
-    std::cerr << "nacre: warning: python3 not found; charts skipped\n";
-    return true;
+    std::cerr << "nacre: warning: python3 not found; charts skipped, the results are complete\n";
+    return false;
   }
   if (rc != 0) {
-    std::cerr << "nacre: error: chart script " << script.string() << " failed (status " << rc
-              << "); the run's results are complete, no chart was left half-written\n";
+    std::cerr << "nacre: warning: the charts (python3 -m nacre.charts." << chart << ") failed with status " << rc
+              << "; the results are complete, no chart was left half-written\n";
     return false;
   }
   if (log)
     *log << "nacre: charts: "
-         << (script_name == "nacre_sweep_plot.py"   ? "sweep.csv, sweep.png"
-             : script_name == "nacre_bench_plot.py" ? "bench.png"
-                                                    : "energy_force.png, crack.png, r_curve.png")
+         << (chart == "sweep"   ? "sweep.png"
+             : chart == "bench" ? "bench.png"
+                               : "energy_force.png, crack.png, r_curve.png")
          << "\n";
   return true;
 }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the Monte Carlo and the dynamics drivers share around their run loops: the overwrite
 // guard of an unfinished run, the plotting scripts (spawned, never through a shell), and the
@@ -35,9 +36,15 @@ int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::funct
 /// \brief spawn_and_wait's result when argv[0] could not be started (not found on PATH).
 inline constexpr int kNotStarted = -1;
 
-/// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted);
-/// returns the exit status, 128 + signal when it was killed, or kNotStarted.
-int spawn_and_wait(const std::vector<std::string>& argv);
+/// \brief Run argv[0] with arguments, no shell (nothing in a path is ever interpreted), in this
+/// process's environment with each "NAME=value" of `env_set` set; returns the exit status,
+/// 128 + signal when it was killed, or kNotStarted.
+int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env_set = {});
+
+/// \brief The directory that holds the nacre Python package (nacre/__init__.py): NACRE_PYTHON_DIR
+/// when set; else PREFIX/share/nacre/python beside an installed PREFIX/bin/nacre; else the source
+/// tree's python/ (a build tree); empty when none is found.
+[[nodiscard]] std::filesystem::path python_dir();
 
 /// \brief A new run (or a restart into another directory) sets up its output directory afresh:
 /// refuse (UsageError) when that would remove the checkpoint of an unfinished run of either
@@ -45,11 +52,17 @@ int spawn_and_wait(const std::vector<std::string>& argv);
 /// anyway, is replaced.
 void check_not_overwriting(const deck::Deck& d, const std::string& restart, bool overwrite);
 
-/// \brief Runs the plotting script `script_name` (nacre_plot.py, nacre_dyn_plot.py; beside
-/// NACRE_PLOT_SCRIPT) on `dir`. The scripts write each chart to a temporary and rename it, so a
-/// failure leaves no truncated PNG. Returns false (message printed) when the script failed;
-/// a missing script or python is a warning and returns true.
-bool run_charts(const std::string& script_name, const std::filesystem::path& dir, std::ostream* log);
+/// \brief Draws the charts of `dir` with `python3 -m nacre.charts.CHART` (mc, dyn, sweep, bench;
+/// the package found by python_dir()). Charts only draw: every data product is written before
+/// (r_curve.csv, sweep.csv, summary.json). Each chart goes to a temporary and is renamed, so a
+/// failure leaves no truncated PNG. A missing package or python3, or a failed chart, is a warning
+/// naming what is missing (returns false); the caller's exit code stays 0.
+bool run_charts(const std::string& chart, const std::filesystem::path& dir, std::ostream* log);
+
+/// \brief The R-curve of the run's table so far (fracture/r_curve.hpp; the crack_extension and
+/// fracture_energy columns of either family), written to r_curve.csv (atomically); `log` gets
+/// one line with the toughening ratio. Returns the ratio: NaN with fewer than 2 points.
+double write_r_curve(const io::RunWriter& w, double thickness, double gc, std::ostream* log);
 
 /// \brief What every run's driver (Monte Carlo: run.cpp, dynamics: run_dynamics.cpp) shares around
 /// its loop: the run's execution-space instance and clock, the log, whether a live progress line

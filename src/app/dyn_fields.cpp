@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The dynamic run's share of the outputs (see dyn_fields.hpp): the triangle mesh, the fields of a
 // dump, the series row and the checkpoint; io::RunWriter writes them.
 #include "dyn_fields.hpp"

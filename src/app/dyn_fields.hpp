@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What a dynamic run hands to io::RunWriter, the writer both solver families share: the triangle
 // mesh (mesh.h5), each dump's named fields (deformed nodes, displacement, velocity, stresses per

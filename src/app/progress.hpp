@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Progress-line helpers shared by the Monte Carlo and the dynamics drivers.
 #include <cstdio>

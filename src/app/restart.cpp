@@ -1,5 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Checkpoint fingerprints and their comparison with the deck.
 #include <nacre/app/restart.hpp>
+#include <nacre/core/build_info.hpp>
 
 #include <Kokkos_Core.hpp>
 
@@ -7,14 +9,10 @@
 #include <map>
 #include <sstream>
 
-#ifndef NACRE_VERSION
-#define NACRE_VERSION "unknown"
-#endif
-
 namespace nacre::app {
 
 std::string physics_text(const deck::Deck& d) {
-  return d.canonical + "nacre.version = \"" NACRE_VERSION "\"\nnacre.backend = \"" +
+  return d.canonical + "nacre.version = \"" + build_info().version + "\"\nnacre.backend = \"" +
          std::string(Kokkos::DefaultExecutionSpace::name()) + "\"\n";
 }
 

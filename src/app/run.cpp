@@ -1,9 +1,11 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The nacre command line: validate everything (flags, deck, limits, checkpoint) before touching
 // the output directory, run the MC solver, write outputs atomically, stop cleanly on SIGINT /
 // SIGTERM with a checkpoint, and start the plotting script without a shell.
 #include <nacre/app/restart.hpp>
 #include <nacre/app/run.hpp>
 #include <nacre/app/signals.hpp>
+#include <nacre/core/build_info.hpp>
 #include <nacre/core/format.hpp>
 #include <nacre/deck/deck.hpp>
 #include <nacre/fracture/crack.hpp>
@@ -191,15 +193,17 @@ public:
     }
     const fracture::CrackReading crack = read_crack();  // gathered to rank 0: every rank calls
     if (!writer_) return 0;
-    writer_->summary(
-        mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), crack, crack_->notch_tip_x()));
+    // the R-curve (energies per unit depth: thickness 1) before the summary that quotes its ratio
+    const double ratio = write_r_curve(*writer_, 1.0, d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2, log_);
+    writer_->summary(mc::summary_json(*solver_, d_, writer_->last_step(), session_.elapsed(), crack,
+                                      crack_->notch_tip_x(), ratio));
     if (log_) {
       const auto& pt = solver_->times();
       *log_ << "nacre: done in " << session_.elapsed() << " s; " << solver_->global_cycle()
             << " cycles; time split: sweep " << pt.sweep << " s, energy " << pt.energy << " s, rng " << pt.rng
             << " s, polish " << pt.polish << " s; largest step residual " << solver_->max_step_residual() << "\n";
     }
-    return session_.complete(*writer_, "steps.csv, nacre.xdmf, summary.json", "nacre_plot.py");
+    return session_.complete(*writer_, "steps.csv, nacre.xdmf, summary.json", "mc");
   }
 
 private:
@@ -430,11 +434,26 @@ int main(int argc, char* argv[]) {
     for (std::size_t k = 0; k < n.size(); ++k) std::cout << n[k] << (k == 0 ? " (default)" : "") << "\n";
     return 0;
   }
+  // `nacre DECK ...` is `nacre run DECK ...`; `nacre check DECK ...` is `nacre run DECK --check ...`
+  static char run_word[] = "run", check_flag[] = "--check";
   std::vector<char*> kokkos_args{argv[0]}, app_args{argv[0]};
-  for (int i = 1; i < argc; ++i)
+  const std::string_view first = argc > 1 ? std::string_view(argv[1]) : std::string_view();
+  const bool top_level = first.empty() || first == "-h" || first == "--help" || first == "--version";
+  if (!top_level) app_args.push_back(run_word);
+  for (int i = (first == "run" || first == "check") ? 2 : 1; i < argc; ++i)
     (std::string_view(argv[i]).starts_with("--kokkos-") ? kokkos_args : app_args).push_back(argv[i]);
+  if (first == "check") app_args.push_back(check_flag);
 
-  CLI::App cli{"nacre: fracture of brick-and-mortar composites (rigid bricks by Monte Carlo; deformable bricks in time with a [dynamics] section)"};
+  CLI::App cli{"nacre " + build_info().version +
+               ": fracture of brick-and-mortar composites (rigid bricks by Monte Carlo; deformable bricks in time "
+               "with a [dynamics] section)"};
+  cli.set_version_flag("--version", version_text(), "print nacre's version and commit, the Kokkos version and "
+                                                    "backends, and the optional libraries found, and exit");
+  cli.require_subcommand(1);
+  CLI::App* run_cmd = cli.add_subcommand("run", "run a deck (`nacre DECK` is the same)");
+  cli.add_subcommand("check", "validate a deck, and with --restart its checkpoint, and exit (`nacre run DECK --check`)");
+  cli.add_subcommand("sweep", "one run of a deck per combination of --set values (`nacre sweep --help`)");
+  cli.add_subcommand("bench", "time a deck on each backend and check they agree (`nacre bench --help`)");
   std::string deck_path;
   std::string out_override;
   RunOptions opt;
@@ -443,17 +462,17 @@ int main(int argc, char* argv[]) {
   // Everything is validated before Kokkos starts and before any output; on several ranks they
   // agree (the largest exit code) so that none goes on alone into the run's collectives.
   const auto prepare = [&]() -> int {
-    cli.add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
-    cli.add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
-    cli.add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
-    cli.add_flag("--check", check_only, "validate the deck and exit");
-    cli.add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
+    run_cmd->add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
+    run_cmd->add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
+    run_cmd->add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
+    run_cmd->add_flag("--check", check_only, "validate the deck and exit");
+    run_cmd->add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
         ->check(CLI::ExistingFile);
-    cli.add_flag("--critical-step", critical,
+    run_cmd->add_flag("--critical-step", critical,
                  "print the largest stable time step of a [dynamics] deck's method (bisection) and exit");
-    cli.add_flag("--overwrite", opt.overwrite,
+    run_cmd->add_flag("--overwrite", opt.overwrite,
                  "start afresh even where the output directory holds the checkpoint of an unfinished run");
-    cli.add_option("--backend", opt.backend,
+    run_cmd->add_option("--backend", opt.backend,
                    "execution space the kernels run on: one of this build's backends (`nacre --backend list`); "
                    "default: Kokkos' default space")
         ->check([](const std::string& b) {
@@ -461,18 +480,22 @@ int main(int argc, char* argv[]) {
                      ? "\"" + b + "\" is not a backend of this build; expected one of: " + Backend::names_list()
                      : std::string();
         });
-    cli.add_option("--gpu-aware-mpi", opt.gpu_aware_mpi,
+    run_cmd->add_option("--gpu-aware-mpi", opt.gpu_aware_mpi,
                    "on several MPI ranks with the data on a GPU: hand device buffers to MPI (on), stage them "
                    "through host memory (off), or on where the MPI reports GPU support (auto, the default)")
         ->check(CLI::IsMember({"auto", "on", "off"}));
-    cli.add_flag("--extend", opt.extend,
+    run_cmd->add_flag("--extend", opt.extend,
                  "with --restart: the deck's final_displacement may differ from the checkpoint's run "
                  "(continue a finished run further)");
-    cli.footer(
+    run_cmd->footer(
         "Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
         "Exit codes: 0 done, 1 runtime failure (e.g. a write failed), 2 bad command line, deck or "
         "checkpoint, 3 dynamic run stopped unstable, 4 a load step not converged (residual above the tolerance "
         "after max_cycles; completed steps and their checkpoint kept), 130/143 stopped by SIGINT/SIGTERM (checkpoint written).");
+    cli.footer("`nacre DECK` runs a deck (as `nacre run DECK`); `nacre COMMAND --help` shows a command's options.\n"
+               "Kokkos flags such as --kokkos-num-threads=N are passed through to Kokkos.\n"
+               "Exit codes: 0 done, 1 runtime failure, 2 bad command line, deck or checkpoint, 3 dynamic run "
+               "stopped unstable, 4 a load step not converged, 130/143 stopped by SIGINT/SIGTERM.");
     if (const int rc = parse_command_line(cli, app_args, [&] { check_kokkos_flags(kokkos_args); }); rc >= 0) return rc;
     if (opt.extend && opt.restart.empty()) {
       std::cerr << "nacre: error: --extend needs --restart\n";

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The dynamic-run driver: deck -> dyn::Params, specimen and interfaces, the dyn::Simulation
 // advanced in chunks (one chunk per time-series row), progress with ETA, dumps + checkpoints,
 // restart, and the stop on instability (exit 3, last good outputs kept, no NaN written).
@@ -9,6 +10,7 @@
 
 #include <nacre/app/restart.hpp>
 #include <nacre/app/signals.hpp>
+#include <nacre/core/build_info.hpp>
 #include <nacre/core/format.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/bie.hpp>
@@ -113,7 +115,7 @@ dyn::Params dynamics_params(const deck::Deck& d, std::size_t bricks) {
   }
   // "auto": the split step where C != 0 (it keeps the undamped step at one J^-1 apply), eq. 4.6's
   // iterations where C = 0 (the same step to rounding at the same cost: the dissertation's step kept);
-  // docs/methods.md "The split step", perf/results/dyn_step_split_phi
+  // docs/methods.md "The split step", perf/results/dyn_step_split_closed_form/ (and the run of cd4ac60)
   const bool damped = p.alpha_d != 0.0 || p.beta_d != 0.0;
   p.bie_scheme = D.bie_scheme == "split" || (D.bie_scheme == "auto" && damped) ? dyn::BieScheme::split
                                                                                : dyn::BieScheme::iterate;
@@ -441,6 +443,11 @@ private:
       c["rayleigh_speed"] = rayleigh_;
       c["thickness"] = p_.thickness;  // fracture_energy / thickness per unit crack length: G (N/mm)
       c["bed_work_of_fracture"] = d_.mortar.bed.k * d_.mortar.bed.x1 * d_.mortar.bed.x2;
+      // the R-curve of the rows so far (rank 0 writes), before the summary that quotes its ratio
+      const double ratio =
+          writer_ ? write_r_curve(*writer_, p_.thickness, c["bed_work_of_fracture"].get<double>(), nullptr) : NAN;
+      c["toughening_ratio"] = std::isfinite(ratio) ? nlohmann::ordered_json(ratio) : null;
+      ratio_ = ratio;
     }
     j["threads"] = session_.backend().concurrency();
     j["execution_space"] = session_.backend().kokkos_name();
@@ -448,6 +455,7 @@ private:
     j["seconds"] = elapsed();
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
+    put_build_json(j);
     j["ranks"] = comm_.size();
     const long long halo = sim.halo_bytes();  // (every rank)
     const long n = sim.steps() - step0_;
@@ -600,13 +608,17 @@ private:
     if (!writer_) return 0;
     if (log_)
       *log_ << "nacre: done in " << elapsed() << " s; " << sim_->steps() << " steps (" << seconds_per_step() * 1e6
-            << " us/step), t = " << sim_->time() << " s, " << ruptured << " interfaces ruptured\n";
-    return session_.complete(*writer_, "series.csv, nacre.xdmf, checkpoint.h5, summary.json", "nacre_dyn_plot.py");
+            << " us/step), t = " << sim_->time() << " s, " << ruptured << " interfaces ruptured\n"
+            << "nacre: R-curve: toughening ratio "
+            << (std::isfinite(ratio_) ? format_real(ratio_, 4) : std::string("n/a (the crack grew at fewer than 2 rows)"))
+            << " (r_curve.csv)\n";
+    return session_.complete(*writer_, "series.csv, nacre.xdmf, checkpoint.h5, summary.json", "dyn");
   }
 
   const deck::Deck& d_;
   const deck::Dynamics& D_;
   const DynRunOptions& opt_;
+  double ratio_ = NAN;  ///< the R-curve's toughening ratio at the last summary
   const par::Comm comm_;
   const bool root_;  ///< rank 0: logs and writes
   RunSession session_;

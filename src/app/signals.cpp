@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SIGINT/SIGTERM handling: async-signal-safe handler that only stores the
 // signal number; everything else happens in the run loop.
 #include <nacre/app/signals.hpp>

@@ -1,12 +1,17 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `nacre sweep DECK --set KEY=V1,V2 [--set KEY=...] [-o OUT]`: one run of the deck per combination
 // of the values, each in OUT/<leaf>=<value>[_<leaf>=<value>...]/ from a deck written beside it
 // (the deck with the keys set, OUT/<name>.toml), as a child nacre process (a crash or a bad value
 // stops that run, not the sweep). Resumable: a finished run is kept, an interrupted one restarted
 // from its checkpoint. Then sweep.json (the runs and their outcomes) and the combined table and
-// overlay charts (nacre_sweep_plot.py: sweep.csv, sweep.png; docs/fracture.md "Sweeps").
+// sweep.csv (one row per run, computed here), and the overlay charts (python -m nacre.charts.sweep:
+// sweep.png; docs/fracture.md "Sweeps").
 #include "driver.hpp"
 
 #include <nacre/app/signals.hpp>
+#include <nacre/core/format.hpp>
+#include <nacre/fracture/r_curve.hpp>
+#include <nacre/io/csv.hpp>
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/names.hpp>
 
@@ -14,7 +19,10 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.hpp>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -119,6 +127,108 @@ std::string outcome(const fs::path& dir) {
   } catch (const nlohmann::json::exception&) {
     return "";
   }
+}
+
+/// \brief A number as sweep.csv spells it: the shortest text that reads back to the same double.
+std::string shortest(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char b[32];
+  const auto [p, ec] = std::to_chars(b, b + sizeof b, v);
+  return ec == std::errc() ? std::string(b, p) : format_real(v, 17);
+}
+
+/// \brief One row of sweep.csv (name -> text, in column order) for one child run of sweep.json:
+/// its name, exit code and swept values; then, when it wrote a summary, its solver, status and
+/// size, the peak reaction and where it fell, the final ruptured count, for Monte Carlo the
+/// final energy, the quadratic E = c D^2 fitted through the first fifth of the steps (at least 2)
+/// and the critical displacement D_c (the first step whose energy falls 5 % below it; the
+/// dissertation's Fig. 2.8b), the R-curve's toughening ratio, and the crack's reading.
+std::vector<std::pair<std::string, std::string>> sweep_row(const nlohmann::ordered_json& run) {
+  std::vector<std::pair<std::string, std::string>> r;
+  const auto text = [](const nlohmann::ordered_json& v) {
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_number_float()) return shortest(v.get<double>());
+    if (v.is_null()) return std::string("nan");
+    return v.dump();
+  };
+  r.emplace_back("name", run["name"].get<std::string>());
+  r.emplace_back("exit", std::to_string(run["exit"].get<int>()));
+  for (const auto& [k, v] : run["values"].items()) r.emplace_back(k, text(v));
+  const fs::path dir = run["directory"].get<std::string>();
+  nlohmann::ordered_json s;
+  {
+    std::ifstream in(dir / io::names::summary);
+    if (!in) return r;
+    s = nlohmann::ordered_json::parse(in, nullptr, false);
+    if (s.is_discarded()) return r;
+  }
+  const nlohmann::ordered_json c = s.value("crack", nlohmann::ordered_json::object());
+  r.emplace_back("solver", s.value("solver", std::string()));
+  r.emplace_back("status", s.value("status", std::string("done")));
+  r.emplace_back("bricks", s.contains("bricks") ? text(s["bricks"]) : std::string());
+  const fs::path table = dir / (s.value("solver", std::string()) == "dynamics" ? io::names::dyn_table : io::names::mc_table);
+  std::ifstream in(table);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const io::CsvTable t = io::parse_csv(ss.str(), table.string());
+  if (!t.rows.empty()) {
+    const std::vector<double> D = t.numbers("displacement"), F = t.numbers("reaction");
+    std::size_t k = 0;
+    for (std::size_t i = 1; i < F.size(); ++i)
+      if (F[i] > F[k]) k = i;
+    r.emplace_back("peak_reaction", shortest(F[k]));
+    r.emplace_back("displacement_at_peak", shortest(D[k]));
+    r.emplace_back("ruptured", t.rows.back()[*t.column("ruptured")]);
+    if (t.column("energy")) {  // Monte Carlo: the total energy and Fig. 2.8b's critical displacement
+      const std::vector<double> E = t.numbers("energy");
+      const std::size_t n0 = std::min(E.size(), std::max<std::size_t>(2, E.size() / 5));
+      double num = 0, den = 0;
+      for (std::size_t i = 0; i < n0; ++i) num += D[i] * D[i] * E[i], den += D[i] * D[i] * D[i] * D[i];
+      const double q = num / std::max(den, 1e-300);
+      double Dc = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t i = 0; i < E.size(); ++i)
+        if (E[i] < 0.95 * q * D[i] * D[i]) {
+          Dc = D[i];
+          break;
+        }
+      r.emplace_back("final_energy", shortest(E.back()));
+      r.emplace_back("quadratic_coefficient", shortest(q));
+      r.emplace_back("critical_displacement", shortest(Dc));
+    }
+    if (c.contains("bed_work_of_fracture") && t.column("crack_extension") && t.column("fracture_energy")) {
+      const auto rc = fracture::r_curve(t.numbers("crack_extension"), t.numbers("fracture_energy"),
+                                        c["thickness"].get<double>(), c["bed_work_of_fracture"].get<double>());
+      r.emplace_back("toughening_ratio", shortest(rc.toughening_ratio));
+    }
+  }
+  for (const char* k : {"extension", "path_length", "deflection", "interfaces", "bed", "head"})
+    if (c.contains(k)) r.emplace_back(std::string("crack_") + k, text(c[k]));
+  if (c.contains("fracture_energy")) r.emplace_back("fracture_energy", text(c["fracture_energy"]));
+  return r;
+}
+
+/// \brief sweep.csv: one row per run of sweep.json, the columns the union of the rows' in order
+/// of first appearance (a run that wrote no summary leaves its later columns empty).
+std::string sweep_csv(const nlohmann::ordered_json& sweep) {
+  std::vector<std::vector<std::pair<std::string, std::string>>> rows;
+  std::vector<std::string> columns;
+  for (const auto& run : sweep["runs"]) {
+    rows.push_back(sweep_row(run));
+    for (const auto& [k, v] : rows.back())
+      if (std::find(columns.begin(), columns.end(), k) == columns.end()) columns.push_back(k);
+  }
+  std::string out;
+  for (std::size_t k = 0; k < columns.size(); ++k) out += (k ? "," : "") + columns[k];
+  out += "\n";
+  for (const auto& r : rows) {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const auto it = std::find_if(r.begin(), r.end(), [&](const auto& p) { return p.first == columns[k]; });
+      out += (k ? "," : "") + (it == r.end() ? std::string() : it->second);
+    }
+    out += "\n";
+  }
+  return out;
 }
 
 }  // namespace
@@ -250,11 +360,16 @@ int sweep_main(int argc, char* argv[]) {
                   << "\n";
     }
     io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
+    io::write_file_atomic(fs::path(out) / "sweep.csv", sweep_csv(summary));
   } catch (const io::WriteError& e) {
     std::cerr << "nacre: error: " << e.what() << "\n";
     return 1;
+  } catch (const std::runtime_error& e) {  // a child's table that does not read back
+    std::cerr << "nacre: error: sweep.csv: " << e.what() << "\n";
+    return 1;
   }
-  if (!run_charts("nacre_sweep_plot.py", out, quiet ? nullptr : &std::cout)) return 1;
+  if (!quiet) std::cout << "nacre: sweep: " << out << "/sweep.json, " << out << "/sweep.csv\n";
+  run_charts("sweep", out, quiet ? nullptr : &std::cout);  // a missing chart is a warning: sweep.csv is written
   if (failed) {
     std::cerr << "nacre: sweep: " << failed << " of " << runs.size() << " runs failed (sweep.json names them)\n";
     return 1;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The run-time backend choice (include/nacre/core/backend.hpp): names, parsing, and the few
 // calls that need no kernel.
 #include <nacre/core/backend.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Deck parsing with toml++: the file is parsed once, then each top-level section is read by its
 // own reader (src/deck/sections/<name>.cpp) through the shared table walker (section.hpp), in the
 // order of kSections. A new section is one more reader file and one more row below.
@@ -55,6 +56,7 @@ Deck parse_deck_string(std::string_view text, const std::string& name) {
   Deck d = parse_table(root, name);
   d.lines = key_lines(root);
   d.canonical = canonical_physics(root);
+  d.text = std::string(text);
   check_limits(d);  // estimates from the deck, before anything is built
   return d;
 }

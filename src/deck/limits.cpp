@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Limits and estimates of a deck: an absurd deck (1e6 x 1e6 bricks, sizes of
 // 1e300 or 1e-300, an increment that never reaches the final displacement) is refused from the
 // deck alone, in milliseconds, with "file:line: key: ..." and how to raise the limit. Also the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The shared table walker of the deck readers (see section.hpp): lookups with aliases, typed
 // reads with range checks, and the "file:line: key: what was expected" errors.
 #include "section.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal to src/deck: the table walker every section reader shares. A Section reads one TOML
 // table and remembers the keys it consumed, so unknown keys, wrong types and out-of-range values

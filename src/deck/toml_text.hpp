@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Deck-internal helpers over the parsed TOML document (toml++ stays out of the public headers).
 #include <toml++/toml.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // BIE start-up (host, Eigen): the Jacobian of eq. 4.7 per element type, its inverse and
 // condition number, the slot order (elements sorted by type) and the tiles of the shared-J^-1
 // product. See include/nacre/dyn/bie.hpp for the method.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Build option of the dynamics kernels (src/dyn). Included from src/CMakeLists.txt after nacre_lib
 # is defined.
 include_guard(GLOBAL)

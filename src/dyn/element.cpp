@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Element library: CST matrices and bolting (see include/nacre/dyn/element.hpp for the why).
 #include <nacre/dyn/element.hpp>
 #include <nacre/dyn/model.hpp>

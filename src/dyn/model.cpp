@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Builds the deformable model from the specimen: element types deduplicated by shape, elements,
 // bed/head interfaces located on one polygon edge of each brick, UE's internal joints, the gather
 // list, prescribed forces. Host assembly (Eigen), then one upload. See model.hpp for the layout.

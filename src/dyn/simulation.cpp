@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The dynamic solver behind include/nacre/dyn/simulation.hpp: owns the model and the state (ImplIn<Mem>,
 // in the memory space of the backend the run is built for: one binary runs on a CUDA build's
 // device and its host backends), runs initial_integrate / interface force / final_integrate per

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The crack read from interface states: a network of interface end points built once per
 // specimen (host, O(N) with a cell hash), then per reading a Dijkstra over the ruptured
 // interfaces from the notch and a breadth-first walk over the softening ones. Host code: a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Interface detection: bricks are binned by centroid into square cells no smaller than a brick's
 // diameter, so any two bricks sharing an edge sit in the same or adjacent cells (O(N) overall).
 // Two bricks share an interface where an edge of one is collinear with, antiparallel to and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Wall construction: each wall-grid brick is a rectangle in the wall frame; mapped to the
 // specimen frame it is clipped (Sutherland-Hodgman) to the specimen rectangle, and bricks whose
 // centroid lies left of the notch tip and that straddle the notch line are split in two.

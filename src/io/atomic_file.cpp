@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Atomic file commits: temporary + close + fsync + rename + directory fsync, each step checked;
 // a failure removes the temporary and names the file and errno text.
 #include <nacre/io/atomic_file.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Checkpoint of named arrays: write (atomic, checked close), read back with format and checksum
 // verified. Solver-neutral: the solvers translate their state into names.
 #include <nacre/io/atomic_file.hpp>
@@ -11,7 +12,9 @@ namespace nacre::io {
 
 namespace {
 // reserved root attribute names (not entries)
-bool reserved(const std::string& n) { return n == "format" || n == "fingerprint" || n == "checksum"; }
+bool reserved(const std::string& n) {
+  return n == "format" || n == "fingerprint" || n == "checksum" || H5Writer::is_build_attribute(n);
+}
 
 std::string hex(std::uint64_t v) {
   char b[20];

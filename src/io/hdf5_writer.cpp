@@ -1,4 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <nacre/io/hdf5_writer.hpp>
+
+#include <nacre/core/build_info.hpp>
 
 #include <hdf5.h>
 
@@ -33,6 +36,15 @@ H5Writer::H5Writer(const std::string& path) : path_(path) {
   errno = 0;
   file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) throw std::runtime_error("HDF5: cannot create " + path + os_error(failed_errno(errno)));
+  // every file names the code that wrote it (core/build_info.hpp)
+  const BuildInfo& b = build_info();
+  attribute("nacre_version", b.version);
+  attribute("nacre_commit", b.commit);
+  attribute("kokkos_version", b.kokkos_version);
+}
+
+bool H5Writer::is_build_attribute(const std::string& name) {
+  return name == "nacre_version" || name == "nacre_commit" || name == "kokkos_version";
 }
 
 H5Writer::~H5Writer() {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The output directory of a run of either solver family: CSV rows, mesh, dumps of named fields,
 // the XDMF index, the checkpoint and the summary, each written atomically and in the order a
 // restart relies on. Knows geometry, not solvers; restarts keep or set up the directory only

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Why: Kokkos Kernels' distance-1 graph colouring (KokkosGraph) as a candidate sweep schedule
 // beside nacre's own greedy colourings ("kokkos-d1"). It runs in parallel on the execution space
 // the sweep uses (OpenMP threads, or the GPU where colouring a million bricks on the host would

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A rank's colouring (include/nacre/mc/halo.hpp says why halo bricks are not swept).
 #include <nacre/mc/halo.hpp>
 

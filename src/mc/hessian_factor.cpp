@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The factorised Newton preconditioner (include/nacre/mc/hessian_factor.hpp): a sparse Cholesky
 // on host memory, CHOLMOD's (its C interface, float or double) where the build found it, else
 // Eigen's own. Unknown 3 i + k is free brick i's x (k = 0), y (1) or theta (2), i in the

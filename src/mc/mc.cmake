@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Build options of the Monte Carlo sweep (src/mc). Included from src/CMakeLists.txt after
 # nacre_lib is defined.
 include_guard(GLOBAL)

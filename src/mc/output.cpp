@@ -1,5 +1,7 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The MC solver's outputs in io's solver-neutral terms: CSV rows, dump snapshot,
 // summary, and the checkpoint as named arrays, range-checked on the way back.
+#include <nacre/core/build_info.hpp>
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
 #include <nacre/core/format.hpp>
@@ -73,7 +75,7 @@ io::Snapshot snapshot(Solver& solver, const geometry::Specimen& s, const geometr
 }
 
 std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
-                         const fracture::CrackReading& crack, double notch_tip_x) {
+                         const fracture::CrackReading& crack, double notch_tip_x, double toughening_ratio) {
   const Sizes z = solver.sizes();  // the specimen's, not a rank's part
   const auto& pt = solver.times();
   nlohmann::ordered_json j;
@@ -114,7 +116,9 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   fracture::put_json(j["crack"], crack, notch_tip_x);
   j["crack"]["thickness"] = 1.0;  // energies per unit depth: fracture_energy per unit crack length is G
   j["crack"]["bed_work_of_fracture"] = d.mortar.bed.k * d.mortar.bed.x1 * d.mortar.bed.x2;
+  j["crack"]["toughening_ratio"] = std::isfinite(toughening_ratio) ? nlohmann::ordered_json(toughening_ratio) : nullptr;
   fracture::put_damage_json(j, d);
+  put_build_json(j);
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The polish methods' names (include/nacre/mc/polish.hpp holds the Polisher, a template on the
 // execution space: FIRE over all free bricks, or colour-swept 3x3 Newton per brick).
 #include <nacre/mc/polish.hpp>

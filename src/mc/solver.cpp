@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // mc::Solver: the Monte Carlo solver's members on one execution space (SolverOn<Exec>,
 // solver_on.hpp) and the face that picks the space from the run's Backend and forwards to them.
 #include "solver_on.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The Monte Carlo solver on one execution space: mc::Solver (include/nacre/mc/solver.hpp) is its
 // face, picks the space once from the run's Backend and forwards every call here.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one file that includes mpi.h (include/nacre/par/comm.hpp says why). Built without MPI
 // (NACRE_HAVE_MPI undefined) every call is that of a one-process world.
 #include <nacre/par/comm.hpp>
@@ -39,6 +40,20 @@ bool has_mpi() {
   return true;
 #else
   return false;
+#endif
+}
+
+std::string mpi_library() {
+#ifdef NACRE_HAVE_MPI
+  char text[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+  int length = 0;
+  if (MPI_Get_library_version(text, &length) != MPI_SUCCESS) return "(version unknown)";
+  std::string v(text, static_cast<std::size_t>(length));
+  v = v.substr(0, v.find_first_of("\n,"));
+  while (!v.empty() && (v.back() == ' ' || v.back() == '\0')) v.pop_back();
+  return v;
+#else
+  return "";
 #endif
 }
 

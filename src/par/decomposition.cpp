@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Static 2-D decomposition with a one-brick halo (include/nacre/par/decomposition.hpp says why).
 #include <nacre/par/comm.hpp>
 #include <nacre/par/decomposition.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <nacre/rng/on_batch.hpp>
 #include <nacre/rng/philox.hpp>
 #include <nacre/rng/uniform_source.hpp>

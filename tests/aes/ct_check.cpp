@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Constant-time check of nacre's bitsliced AES under valgrind memcheck.
 //
 //   valgrind --error-exitcode=1 nacre_aes_ct_check nacre   -> must report nothing (exit 0)

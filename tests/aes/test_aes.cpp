@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nacre's bitsliced AES-128: FIPS-197 vectors, the S-box circuit, every bitsliced word type, and
 // bit-for-bit equality with OpenSSL's AES-128-ECB on random keys, sizes and alignments.
 #include <nacre/aes/aes128.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // nacre's bitsliced AES compiled the way src/aes is (-march=native under NACRE_AES_NATIVE): the
 // x86 GFNI transposition (aes/transpose_gfni.hpp) checked as a transposition (every block's bit k
 // lands in word k, at one position per block, the positions a bijection) and as the exact

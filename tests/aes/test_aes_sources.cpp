@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The AES random-number sources (aes-ctr, mt-aes): definition, determinism, independence of
 // streams and of the batch, thread-count independence, and a statistical smoke test.
 #include <nacre/aes/aes128.hpp>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Tests of nacre's bitsliced AES and the AES random-number sources (included from
 # tests/CMakeLists.txt; sources of nacre_add_test are relative to tests/).
 include(${PROJECT_SOURCE_DIR}/src/aes/aes.cmake)

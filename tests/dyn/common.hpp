@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Small specimens and parameters shared by the dynamics tests (units N, mm, t, s).
 #include <nacre/dyn/model.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The dynamics kernels, written once, run on every backend a run can choose (tests/backends.hpp
 // RunBackends: the host backends of a host build, the device and the host backends of a CUDA
 // build, each with the model in its own memory) and

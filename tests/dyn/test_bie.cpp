@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // BIE: the Jacobian of eq. 4.7 and its inverse, the four J^-1 apply variants agree,
 // second-order convergence, stability at 10x BE's critical step, restart and determinism.
 #include "common.hpp"

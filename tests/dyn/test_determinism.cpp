@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Determinism: a cracking run (interfaces through all branches of the law, rupture included)
 // leaves the same bits on any thread count. CTest runs this on 1 and 2 threads; each run writes
 // its fingerprints to NACRE_HASH_OUT and a third test compares the files.

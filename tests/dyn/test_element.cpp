@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Element library: CSTs and bolting against closed forms (mass, rigid-body modes, homogeneous
 // strain energy, patch test, uniaxial stress, thermal load).
 #include "common.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Interfaces: forces = -dE/du by finite differences (all branches of the law, UE's internal
 // joints included), element forces = -d(1/2 u^T K u)/du, and the quadrature rule along a
 // segment against a fine composite reference.

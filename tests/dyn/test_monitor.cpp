@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The dynamic run's stability monitor (monitor.hpp, docs/dynamics.md "Stability monitor"): the
 // step bound against the exact spectrum, its penalty stiffening against the closed form, the
 // balance check stopping a bad run at a state whose books close, the adaptive step restarting bit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Physics of the explicit integrators against exact answers: free thermal expansion, static
 // response to a prescribed force, the frequency of a bar of bricks, energy conservation over
 // 1e5 steps, the critical step against 2/omega_max of the linearised system, and the quadrature

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Simulation-level tests: both methods run a loaded wall with a closed energy balance, restart
 // is bit for bit, element types are shared, bytes are reported.
 #include "common.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Variants that must not change a result: the tiled element apply (ElementApply::tiled) against
 // the per-element one, BIE's fused tiled step against the unfused shared_gemm path (same bits),
 // and the interface kernel's closed form for elastic, open segments against the Gauss rule (same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The 2-D decomposition and the Monte Carlo halo exchange (include/nacre/par/): a colour-swept
 // cycle on several ranks must leave the bits of one process. Checked twice: P ranks emulated in
 // this process (messages handed over in memory: every build, every P), and the MPI ranks this

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief nacre's AES-128 encryption: bitsliced, table-free and constant time, as Kokkos kernels.

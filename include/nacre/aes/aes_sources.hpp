@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Random-number generators built on nacre's bitsliced AES-128 (see aes/aes128.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The per-thread core of nacre's bitsliced, constant-time AES-128 (FIPS-197).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The Kokkos team kernel around the bitsliced AES core (aes/bitsliced.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief x86 fast path of the bitslice transposition for the 512-bit word (u64x8): byte

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief What identifies a run's physics in a checkpoint, and the checks a restart makes before

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The driver of a dynamic run (deck with a [dynamics] section): deck -> dyn::Params, the run loop
 // with outputs, and the --critical-step command. run.cpp only dispatches here.

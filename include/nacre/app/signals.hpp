@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief SIGINT / SIGTERM: the handler only records the signal in a lock-free atomic; the run

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Irreversible damage: the cohesive law of law.hpp with a history variable, kappa, the

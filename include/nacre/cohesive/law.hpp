@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The cohesive law of MODEL.md §2: energy density f(d) + g(dn) and its gradient, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief One cohesive law per joint kind (bed, head, internal), shared by every interface of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Gauss-Legendre rules on [0, 1] for integrating the cohesive energy along an interface.

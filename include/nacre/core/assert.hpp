@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief NACRE_ASSERT(cond, "what was expected"): a precondition of nacre's own code (a View's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The execution spaces a run can choose at run time (`nacre DECK --backend NAME`).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Sums whose bits depend on neither the thread count, the backend, nor how the terms are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief A real as text with a given number of significant digits ("%.*g"): CSV rows (10, or 17

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Input deck: every parameter of a run, parsed from TOML and validated up front.
@@ -179,6 +180,8 @@ struct Deck {
   /// per key, sorted; comments, layout and key order ignored); [output], [limits] and
   /// load.final_displacement left out (a restart may extend a run, see the app's --extend).
   std::string canonical;
+  /// \brief The deck's text as read (each run directory keeps a copy: deck.toml).
+  std::string text;
   /// \brief Line of every key ("geometry.width") and section ("geometry") in the file.
   std::map<std::string, int> lines;
   /// \brief "file:line: key" for messages about a key (line 0 when unknown).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The deck's [dynamics] section (Chapter 4: deformable bricks in time). Its presence

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The bolted implicit-explicit method (BIE, eq. 4.6/4.7): implicit midpoint for

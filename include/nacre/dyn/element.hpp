@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Element library of the deformable bricks (MODEL.md §5): constant-strain triangles

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Device kernels of the explicit integrators (eq. 4.4, UE and BE share them): the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The dynamic run's stability monitor (docs/dynamics.md "Stability monitor"): kernels

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The choices of a dynamic run, defined once: the deck reads them (deck/dynamics.hpp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Deformable bricks in time (Chapter 4, MODEL.md §5): the public face of the dynamics

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The crack as a fracture scientist reads it: the ruptured interfaces connected to the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The brick-and-mortar specimen: a running-bond wall, rotated, clipped to the specimen

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief A solver-neutral checkpoint: named arrays of doubles plus integer, real and string

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief A thin RAII layer over the HDF5 C API: create a file, groups, 1-D/2-D datasets and
@@ -12,7 +13,11 @@ namespace nacre::io {
 
 class H5Writer {
 public:
-  explicit H5Writer(const std::string& path);  ///< create/truncate
+  /// \brief Create/truncate; the root gets the attributes nacre_version, nacre_commit and
+  /// kokkos_version (core/build_info.hpp).
+  explicit H5Writer(const std::string& path);
+  /// \brief Whether `name` is one of the root attributes every file gets (readers skip them).
+  [[nodiscard]] static bool is_build_attribute(const std::string& name);
   /// \brief Closes without checking (only reached on an error path: call close() to commit).
   ~H5Writer();
   /// \brief Flush and close the file; throws if HDF5 could not write it completely (full disk).

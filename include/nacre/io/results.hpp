@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Everything a run of either solver family writes into its output directory, each file
@@ -106,6 +107,9 @@ public:
   [[nodiscard]] std::filesystem::path checkpoint_path() const { return o_.directory / names::checkpoint; }
   [[nodiscard]] long last_step() const { return last_step_; }
   [[nodiscard]] long rows() const { return rows_; }
+  /// \brief The table as written so far (header and every row, those of a resumed run included).
+  [[nodiscard]] const std::string& table() const { return csv_; }
+  [[nodiscard]] const std::string& table_name() const { return o_.csv_name; }
   [[nodiscard]] long last_dump_step() const { return dumps_.empty() ? -1 : dumps_.back().step; }
   [[nodiscard]] int stale_temporaries_removed() const { return stale_removed_; }
 

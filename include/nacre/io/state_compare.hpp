@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Two runs' states compared array by array: each named array (a dynamic run's u, v, a,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Rigid-brick kinematics: a brick's pose, the displacement of its material points and

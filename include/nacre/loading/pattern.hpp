@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The prescribed-displacement pattern of the driven edges (docs/decks.md, [load]): the

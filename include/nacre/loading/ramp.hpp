@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Time profile of the opening, D(t), for solvers that move through time (Chapter 4):

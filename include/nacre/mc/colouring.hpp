@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Distance-1 graph colouring of the free bricks (§2.4): same-colour bricks share no

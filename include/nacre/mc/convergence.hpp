@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Sliding-window convergence test of a load step (§2.2, eq. 2.5-2.6).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The Monte Carlo model of one rank (its owned bricks and their halo) and the exchange of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Exact Hessian-vector products and 3x3 diagonal blocks of the rigid-brick energy.

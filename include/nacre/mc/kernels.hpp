@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Kernels over the rigid-brick model: total / per-brick energy, rupture count, load

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Device-resident rigid-brick model: brick poses and interface geometry as Views, in

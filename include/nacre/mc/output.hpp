@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The Monte Carlo solver's side of the outputs: its CSV rows, its dump snapshot (named
@@ -24,9 +25,11 @@ namespace nacre::mc {
 
 /// \brief summary.json: sizes, colouring (and the pick of colouring = "fastest" with its
 /// timings), generator, seed, threads, backend, steps, cycles, times.
-/// The crack of the final state (fracture/crack.hpp) goes in "crack".
+/// The crack of the final state (fracture/crack.hpp) goes in "crack", with the R-curve's
+/// toughening ratio (null when NaN); the build (core/build_info.hpp) in "nacre", "kokkos", "libraries".
 [[nodiscard]] std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, double seconds,
-                                       const fracture::CrackReading& crack, double notch_tip_x);
+                                       const fracture::CrackReading& crack, double notch_tip_x,
+                                       double toughening_ratio);
 
 /// \brief The checkpoint as named arrays (solver "mc"); `fingerprint` and `deck_text` identify
 /// the deck that made it, `final_displacement` the end of its loading programme and `legs` the

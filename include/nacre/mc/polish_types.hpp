@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief What a polish is asked to do and what it did (the methods: polish.hpp, trust_region.hpp).

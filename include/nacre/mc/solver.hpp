@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Quasi-static rigid-brick solver: load increments, each relaxed by colour-parallel

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Trust-region Newton-CG (Steihaug) on the exact rigid-brick energy: the quasi-static

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The processes a run is spread over: MPI when nacre is built with NACRE_ENABLE_MPI, one
@@ -9,6 +10,7 @@
 /// nothing and exchanges nothing).
 #include <nacre/core/deterministic_sum.hpp>
 
+#include <string>
 #include <vector>
 
 namespace nacre::par {
@@ -20,6 +22,10 @@ namespace nacre::par {
 /// (MPIX_Query_cuda_support / MPIX_Query_rocm_support) where its extensions say it has one; false
 /// where the MPI cannot tell (then device data is staged through host memory unless asked).
 [[nodiscard]] bool mpi_device_aware();
+
+/// \brief The MPI library's name and version ("Open MPI v5.0.7", the first line of
+/// MPI_Get_library_version, callable before MPI_Init); "" in a build without MPI.
+[[nodiscard]] std::string mpi_library();
 
 /// \brief MPI for the life of the object (MPI_Init_thread with funneled threads when built with
 /// MPI and not yet initialised; MPI_Finalize at the end if this object initialised it).

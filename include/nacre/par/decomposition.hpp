@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief A static 2-D decomposition of a specimen over the ranks of a run, with a one-brick halo.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief How a uniform source launches on a batch: the batch's memory space picks the instance.

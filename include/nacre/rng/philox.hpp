@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief Philox4x32-10 counter-based generator (Salmon et al., SC'11), device-callable.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file
 /// \brief The generator interface of nacre: reproducible uniforms keyed by (seed, stream, draw).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [dynamics]: its presence selects the dynamic solver (Chapter 4). The reader also rejects the
 // Monte Carlo keys a dynamic run would silently ignore ([solver], the load-step keys of [load],
 // [output] DumpInter), so a deck never means something it does not do.

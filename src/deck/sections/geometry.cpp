@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [geometry]: specimen and wall (required section).
 #include "../section.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [limits]: what a deck may ask for before it is refused (checked by deck/limits.cpp from
 // estimates, before anything is built); each limit is raised explicitly here.
 #include "../section.hpp"

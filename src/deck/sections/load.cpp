@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [load]: the prescribed-displacement pattern and the load-step programme (required section).
 #include "../section.hpp"
 

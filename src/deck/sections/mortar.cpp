@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [mortar]: one cohesive law for every joint, optionally overridden by [mortar.bed] and
 // [mortar.head] (required section).
 #include "../section.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [output]: where and what a run writes.
 #include "../section.hpp"
 

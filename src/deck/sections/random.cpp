@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [random]: seed and generator of the reproducible random streams.
 #include "../section.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [solver]: the Monte Carlo solver (deck::MonteCarlo; the TOML section keeps its name).
 #include "../section.hpp"
 
