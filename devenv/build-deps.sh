@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # build-deps.sh — build Kokkos / Kokkos Kernels from the carried tarballs into versioned prefixes.
 #
 # Why: Debian ships Kokkos 5.2.2 (OpenMP only) and no Kokkos Kernels; nacre also has to be

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Sourced by the studies that run the nacre app on many decks (perf/run_pareto.sh,
 # perf/run_scaling.sh): why one file: the build, the timing of one run and the job pool are the
 # same for both, and a fix to one (say, how a failed run is recorded) must reach the other.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # bench_all.sh — every `nacre bench` figure in one sitting: the README decks and scaled decks on
 # every backend of the build, the explicit methods against BIE at stiffness ratio 500, and one
 # table of it all. Written for a short run on a GPU machine (perf/gpu/device_run.sh calls it

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The dynamics' speed-versus-accuracy front (docs/methods.md "Accuracy where it matters").
 
 On the README BIE deck (inputs/dynamic_bie.toml: stiff bricks, r = 500, Table 4.2's alpha_d),

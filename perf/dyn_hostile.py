@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The hostile-specimen suite of the dynamic solver (docs/methods.md "Hostile specimens").
 
 Why: the README's decks are easy (an unrotated wall, no slivers, no compression). A user's first

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Speed-ups to the same simulated time from nacre_perf_dyn_step CSVs (one run per file).
 
 speed-up of BIE over X = (h_BIE / h_X) x (t_X / t_BIE), t = CPU seconds per step; every ratio is

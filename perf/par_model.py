@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Weak and strong scaling model of the Monte Carlo cycle over MPI ranks (docs/scaling.md).
 
 Inputs, each stated in the output:

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Summarise perf/run_adaptive_study.sh: cycles, time, speed-up and accuracy per variant."""
 import json
 import os

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart and JSON summary of perf/run_colouring_bench.sh (ratios from the same run)."""
 import csv
 import json

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart and summary of perf/run_dyn_bench.sh: time per step vs bricks (UE, BE, 1 and 2 threads)
 and each run's effective bandwidth (bytes moved per step / time per step) against the triad
 bandwidth measured in the same process, by wall time and by CPU time (process CPU time / threads,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart and summary of perf/run_dyn_critical.sh: critical step against stiffness ratio for UE and
 BE (Fig. 4.6), its slope against the 1/sqrt(r) expectation, and the UE/BE gap against
 sqrt(internal joint stiffness / brick stiffness) = sqrt(internal_stiffness_factor).

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart and JSON summary of perf/run_mc_bench.sh results (ratios from the same run)."""
 import csv
 import json

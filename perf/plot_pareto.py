@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Speed against accuracy: errors of each run of perf/run_pareto.sh against the
 converged reference, against its CPU time; the Pareto front drawn, the default deck's settings
 marked. Writes OUTDIR/pareto.csv, pareto.md and pareto.png.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Scaling of total time with the number of bricks (perf/run_scaling.sh): fits time = a N^p by
 least squares in log-log, for the solve (CPU time minus initialisation; wall time minus
 initialisation for a study run on more threads, perf/app_runs.sh's NACRE_APP_THREADS, where idle

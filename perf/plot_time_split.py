@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart the per-phase time of perf/run_time_split.sh runs (one stacked bar per generator)."""
 import os
 import sys

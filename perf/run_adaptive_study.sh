@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Speed against accuracy of the adaptive methods (§2.2; the dissertation: ~5x, the predictor
 # the largest part). One deck, four variants, each run to the same final displacement:
 #   fixed       fixed trial steps, fixed load increment, no predictor (the paper's non-adaptive)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Sweep schedules compared (docs/design.md, "Which colouring"): nacre's colourings and Kokkos
 # Kernels' distance-1 colouring (kokkos-d1). Colours, balance and time to colour 10k .. 1M bricks
 # (nacre_perf_colouring; also Kokkos Kernels' default, non-deterministic algorithm,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Dynamics time per step vs bricks (UE, BE; 1 and 2 threads) against a Kokkos triad measured in
 # the same process, bytes per step and per brick (shared / unshared element matrices).
 # Usage (from the repository root, on the host):

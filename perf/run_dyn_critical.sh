@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Critical step vs stiffness ratio (1, 10, 50, 100, 500) for UE and BE, with and without the
 # Table 4.2 damping (Fig. 4.6); the UE/BE gap against sqrt(internal / brick stiffness).
 # Usage (from the repository root, on the host):

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # A/B throughput of two nacre_perf_mc builds, interleaved in one sitting (old, new, old, new, ...)
 # so that both see the same machine load; the ratio is taken per repetition.
 # Usage (inside the dev root, from the repository root):

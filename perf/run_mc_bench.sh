@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Rigid-brick MC benchmarks in one run: initialisation scaling (10k .. 1M bricks) and sweep
 # throughput for 10k/100k/300k bricks on 1 and 2 threads against the serial reference.
 # Usage (from the repository root, on the host):

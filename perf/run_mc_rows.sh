@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Throughput of several nacre_perf_mc builds (one per change), interleaved in one sitting
 # (b1, b2, ..., b1, b2, ...) so that every build sees the same machine load; each row's ratio to
 # the first build is taken per repetition ("a row per change, ratios in one run").

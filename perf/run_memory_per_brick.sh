@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Peak resident memory of a whole nacre run for two specimen sizes; the slope is the memory per
 # brick behind [limits] max_memory_gib (deck/limits.hpp: bytes_per_brick, docs/guarantees.md).
 #   devenv/nacre-env run perf/run_memory_per_brick.sh [NACRE_EXE] [WORK_DIR]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The dynamics over MPI ranks on this machine (docs/scaling.md "Dynamics over ranks"): strong
 # scaling (the README's BE and BIE decks widened to ~21k bricks, 1, 2 and 4 ranks) and weak
 # scaling (BE, ~10.5k bricks per rank), each run of the app checked against the one-process run's

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Monte Carlo sweeps over MPI ranks on this machine (docs/scaling.md): strong scaling (100k
 # bricks on 1, 2, 4 ranks), weak scaling (25k bricks per rank), each run checked bit for bit
 # against one process; then the halo sizes of a 1M-brick specimen cut for 4 .. 1024 ranks, the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Speed against accuracy at scale: one notched specimen of ~20k bricks (the default
 # deck's geometry scaled up, same law, same load path shape), a converged reference, and a sweep
 # of solver settings, each run to the same final displacement. Every run is timed in process CPU

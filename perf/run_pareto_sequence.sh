@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # One sequence of lone runs on the Pareto study's reference path (docs/speed_accuracy.md): this
 # build's Newton, FIRE, this build's Newton again, then a base build's Newton, one after another
 # on one thread each, so that FIRE / Newton is a ratio of runs that met the same machine. (The

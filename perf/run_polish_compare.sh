@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Polish methods against each other: from one Monte Carlo state of the default deck's
 # specimen (same seed, same state for each method), FIRE, colour-swept block Newton and annealing
 # (Monte Carlo cooled to T = 0) run to 1e-3 ... 1e-8; cumulative time and iterations to each

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Scaling of the rigid-brick solver (the dissertation: ~N^1.5): total time to the
 # same final displacement against the number of bricks, with the studies' pinned settings
 # (perf/scaled_deck.sh ... study: adaptive increments, Monte Carlo unless

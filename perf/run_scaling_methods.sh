@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Time to the same converged load path against the number of bricks, one study per relaxation
 # (perf/run_scaling.sh on the studies' pinned path, each step converged to residual 1e-6), and the
 # exponents side by side (perf/plot_scaling.py --compare): which method scales how, and whether

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Time split of a Monte Carlo run by phase (sweep, energy, random numbers), once per generator
 # (philox, aes-ctr, mt-aes), from nacre's fenced phase timers (the same phases are Kokkos Tools
 # regions nacre::mc::sweep / energy / rng). Run in the dev root:

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The default deck's specimen (80 x 40, 3.5 x 1 bricks, notch 24: 920 bricks) scaled by s in both
 # directions to about BRICKS bricks, with the load path's shape and displacements kept, run to
 # FINAL, no intermediate dumps. Shared by perf/run_pareto.sh, perf/run_scaling.sh, perf/bench_all.sh.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Tabulate dieharder reports: dieharder_table.py OUTDIR GEN... -> OUTDIR/dieharder.{csv,md}."""
 import csv
 import re

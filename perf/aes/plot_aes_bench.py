@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Chart, JSON and summary of perf/aes/run_aes_bench.sh: plot_aes_bench.py OUTDIR.
 
 Two views of the cipher rows: the size sweep (kind cipher; median over buffers >= 1 MiB) and the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Throughput of nacre's bitsliced AES-128 against OpenSSL, and of the random-number generators,
 # in one run on one machine:
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Statistical quality of nacre's generators with dieharder (Debian package).
 #
 #   devenv/nacre-env run perf/aes/run_dieharder.sh [--full] [--build DIR] [--gens "aes-ctr ..."] OUTDIR

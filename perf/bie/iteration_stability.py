@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Why stiffness damping shrinks BIE's stable step, on a linear model small enough to solve exactly.
 
 A chain of `nb` point masses (a brick's dofs, total mass m) joined by brick springs kb (implicit

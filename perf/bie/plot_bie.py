@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Charts and headline numbers of the issue-8 experiments (perf/bie/run_bie_bench.sh).
 
 usage: plot_bie.py OUTDIR EXPERIMENT   (critical|timing|speedup|speedup_damped|accuracy|accuracy_damped|fail|memory)

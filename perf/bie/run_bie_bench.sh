@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Chapter 4 experiments (issue 8), one command each:
 #   perf/bie/run_bie_bench.sh critical|timing|speedup|speedup_damped|accuracy|accuracy_damped|fail|memory|all [OUTDIR]
 # Builds nacre_perf_bie, runs the experiment into OUTDIR (default perf/results/bie), writes the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # ab_bench.sh — two carried nacre builds on the same decks in one sitting (the machine's noise
 # and clocks shared): `nacre bench` of each deck with binary A, then with B (`--compare` against
 # A's state: the agreement of the two builds), so a kernel change is measured as a ratio in one

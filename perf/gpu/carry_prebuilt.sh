@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # carry_prebuilt.sh — bundle binaries built here (in the dev root, e.g. by `devenv/nacre-env
 # cuda-build`) with every shared library they load and the dev root's own dynamic loader, so
 # they run unchanged on a GPU machine whose system is older or different (no HDF5, another

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # device_run.sh — on a GPU machine, with binaries carried by carry_prebuilt.sh (built here by
 # `devenv/nacre-env cuda-build`, plus optionally OpenMP builds renamed *_omp for the machine's
 # CPU cores): the test suite's binaries on the GPU, then the dynamics and Monte Carlo

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # pack.sh — bundle everything perf/gpu/runbook.sh needs on a machine without network access:
 # nacre's sources (this checkout's committed state), the Kokkos / Kokkos Kernels tarballs and
 # the CUDA-13 patch (the dependency sources, NACRE_DEPS: see docs/ci.md / devenv/nacre-env), and the header-only libraries the benchmarks use (CLI11,

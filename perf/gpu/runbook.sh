@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # runbook.sh — build nacre's benchmarks (MC, AES, dynamics) from the carried sources and run them, on a bare GPU
 # machine (nvcc, CMake >= 3.22, Ninja and a host compiler; no HDF5, Eigen, toml++, CLI11, Catch2
 # and no network). Everything lands in OUTDIR: CSV/JSON of each benchmark, the build and run

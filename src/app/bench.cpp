@@ -13,7 +13,7 @@
 //
 // Writes OUT/bench.csv (one row per backend, repeat and phase), OUT/bench.json (the machine, the
 // bounds, the best repeat per backend, the agreement), OUT/state.bin (the first backend's result,
-// what another bench's --compare reads) and OUT/bench.png (nacre_bench_plot.py).
+// what another bench's --compare reads) and OUT/bench.png (python -m nacre.charts.bench).
 #include "driver.hpp"
 
 #include <nacre/app/run_dynamics.hpp>

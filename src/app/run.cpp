@@ -584,9 +584,23 @@ int main(int argc, char* argv[]) {
       std::cerr << "nacre: warning: --gpu-aware-mpi on, but this MPI does not report GPU support; device "
                    "buffers are handed to it anyway\n";
   }
+  // where the ranks sit, before Kokkos starts threads (an unbound launch put them on one core)
+  const char* keep = std::getenv("NACRE_PLACEMENT");
+  const par::Placement& placed = par::check_placement(comm, !(keep && std::string_view(keep) == "keep"));
+  if (placed.shared && comm.rank() == 0)
+    std::cerr << "nacre: warning: the " << placed.node_ranks << " ranks on this node could run on the same CPUs ("
+              << "rank 0 on " << placed.cpus_at_start << "; an unbound launch such as mpirun --oversubscribe); "
+              << (placed.rebound ? "nacre bound each rank to CPUs of its own (rank 0: " + placed.cpus +
+                                       "; NACRE_PLACEMENT=keep leaves them as launched)"
+                                 : std::string("launch with mpirun --bind-to core, or set OMP_PROC_BIND=false"))
+              << "\n";
   kokkos_args.push_back(nullptr);
   int kargc = static_cast<int>(kokkos_args.size()) - 1;
   Kokkos::ScopeGuard guard(kargc, kokkos_args.data());
+  if (const int t = Kokkos::DefaultHostExecutionSpace().concurrency(); par::oversubscribed(t) && comm.rank() == 0)
+    std::cerr << "nacre: warning: " << placed.node_ranks << " rank(s) x " << t << " threads on " << placed.node_cpus
+              << " CPUs: threads wait for each other; use --kokkos-num-threads="
+              << std::max(1, placed.node_cpus / placed.node_ranks) << "\n";
   opt.tty = ::isatty(STDERR_FILENO) != 0;
   try {
     const Backend backend = opt.backend.empty() ? Backend{} : Backend::parse(opt.backend);

@@ -11,6 +11,7 @@
 #include <nacre/app/restart.hpp>
 #include <nacre/app/signals.hpp>
 #include <nacre/core/build_info.hpp>
+#include <nacre/par/comm.hpp>
 #include <nacre/core/format.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/bie.hpp>
@@ -456,6 +457,7 @@ private:
     j["seconds_per_step"] = seconds_per_step();
     fracture::put_damage_json(j, d_);
     put_build_json(j);
+    par::put_placement_json(j, session_.backend().concurrency());
     j["ranks"] = comm_.size();
     const long long halo = sim.halo_bytes();  // (every rank)
     const long n = sim.steps() - step0_;

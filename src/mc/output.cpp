@@ -2,6 +2,7 @@
 // The MC solver's outputs in io's solver-neutral terms: CSV rows, dump snapshot,
 // summary, and the checkpoint as named arrays, range-checked on the way back.
 #include <nacre/core/build_info.hpp>
+#include <nacre/par/comm.hpp>
 #include <nacre/kinematics/rigid.hpp>
 #include <nacre/mc/output.hpp>
 #include <nacre/core/format.hpp>
@@ -119,6 +120,7 @@ std::string summary_json(const Solver& solver, const deck::Deck& d, int steps, d
   j["crack"]["toughening_ratio"] = std::isfinite(toughening_ratio) ? nlohmann::ordered_json(toughening_ratio) : nullptr;
   fracture::put_damage_json(j, d);
   put_build_json(j);
+  par::put_placement_json(j, backend.concurrency());
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 

@@ -3,7 +3,12 @@
 // (NACRE_HAVE_MPI undefined) every call is that of a one-process world.
 #include <nacre/par/comm.hpp>
 
+#include <sched.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <cstddef>
 #include <cstdlib>
 #include <stdexcept>
@@ -55,6 +60,101 @@ std::string mpi_library() {
 #else
   return "";
 #endif
+}
+
+namespace {
+/// "0-3,6" of a CPU set
+std::string cpu_list(const cpu_set_t& set) {
+  std::string out;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (!CPU_ISSET(c, &set)) continue;
+    int e = c;
+    while (e + 1 < CPU_SETSIZE && CPU_ISSET(e + 1, &set)) ++e;
+    out += (out.empty() ? "" : ",") + std::to_string(c) + (e > c ? "-" + std::to_string(e) : std::string());
+    c = e;
+  }
+  return out;
+}
+
+/// The CPUs the node offers this process: the cgroup's effective cpuset, else every online CPU.
+std::vector<int> node_cpu_ids() {
+  std::vector<int> ids;
+  std::ifstream in("/sys/fs/cgroup/cpuset.cpus.effective");
+  std::string text;
+  if (in && std::getline(in, text) && !text.empty()) {
+    std::stringstream ss(text);
+    std::string part;
+    while (std::getline(ss, part, ',')) {
+      const auto dash = part.find('-');
+      const int a = std::atoi(part.c_str()), b = dash == std::string::npos ? a : std::atoi(part.c_str() + dash + 1);
+      for (int c = a; c <= b; ++c) ids.push_back(c);
+    }
+  }
+  if (ids.empty())
+    for (long c = 0; c < sysconf(_SC_NPROCESSORS_ONLN); ++c) ids.push_back(static_cast<int>(c));
+  return ids;
+}
+}  // namespace
+
+namespace {
+Placement& last_placement() {
+  static Placement p;
+  return p;
+}
+}  // namespace
+
+const Placement& placement() { return last_placement(); }
+
+Placement check_placement([[maybe_unused]] const Comm& comm, [[maybe_unused]] bool fix) {
+  Placement& p = last_placement();
+  p = Placement{};
+  cpu_set_t mine;
+  CPU_ZERO(&mine);
+  if (sched_getaffinity(0, sizeof mine, &mine) != 0) return p;
+  p.cpus = p.cpus_at_start = cpu_list(mine);
+  p.rank_cpus = CPU_COUNT(&mine);
+  const std::vector<int> node = node_cpu_ids();
+  p.node_cpus = static_cast<int>(node.size());
+#ifdef NACRE_HAVE_MPI
+  if (comm.size() < 2) return p;
+  MPI_Comm local = MPI_COMM_NULL;
+  check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, comm.rank(), MPI_INFO_NULL, &local),
+        "MPI_Comm_split_type");
+  int lr = 0, ln = 1;
+  MPI_Comm_rank(local, &lr);
+  MPI_Comm_size(local, &ln);
+  p.node_ranks = ln;
+  // every rank's CPU set on the node, as bytes
+  std::vector<unsigned char> all(sizeof(cpu_set_t) * static_cast<std::size_t>(ln));
+  check(MPI_Allgather(&mine, sizeof(cpu_set_t), MPI_BYTE, all.data(), sizeof(cpu_set_t), MPI_BYTE, local),
+        "MPI_Allgather");
+  for (int a = 0; a < ln && !p.shared; ++a)
+    for (int b = a + 1; b < ln && !p.shared; ++b) {
+      cpu_set_t both;
+      const auto* sa = reinterpret_cast<const cpu_set_t*>(all.data() + sizeof(cpu_set_t) * static_cast<std::size_t>(a));
+      const auto* sb = reinterpret_cast<const cpu_set_t*>(all.data() + sizeof(cpu_set_t) * static_cast<std::size_t>(b));
+      CPU_AND(&both, sa, sb);
+      p.shared = CPU_COUNT(&both) > 0;
+    }
+  int ok = 1;
+  if (p.shared && fix && ln <= p.node_cpus) {  // rank lr of ln: CPUs [lr n / ln, (lr + 1) n / ln)
+    cpu_set_t slice;
+    CPU_ZERO(&slice);
+    const std::size_t n = node.size(), lo = n * static_cast<std::size_t>(lr) / static_cast<std::size_t>(ln),
+                      hi = n * static_cast<std::size_t>(lr + 1) / static_cast<std::size_t>(ln);
+    for (std::size_t k = lo; k < hi; ++k) CPU_SET(node[k], &slice);
+    ok = sched_setaffinity(0, sizeof slice, &slice) == 0 ? 1 : 0;
+  } else {
+    ok = 0;
+  }
+  int all_ok = 0;
+  check(MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, local), "MPI_Allreduce");
+  if (ok && !all_ok) sched_setaffinity(0, sizeof mine, &mine);  // all or none: back to the start
+  p.rebound = all_ok == 1;
+  if (sched_getaffinity(0, sizeof mine, &mine) == 0) p.cpus = cpu_list(mine), p.rank_cpus = CPU_COUNT(&mine);
+  MPI_Comm_free(&local);
+#endif
+  return p;
 }
 
 bool mpi_device_aware() {

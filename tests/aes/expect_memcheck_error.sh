@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Run a command (valgrind memcheck --error-exitcode=1 ...) that MUST report secret-dependent
 # control flow or addresses: pass only if it exits with 1 and memcheck's report is in the output.
 out=$("$@" 2>&1)

@@ -1,11 +1,10 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end check of a dynamic run's output directory: series.csv has the promised columns,
 finite values and steps on the csv_interval grid; every XDMF DataItem resolves to an HDF5 dataset
 of the stated shape (Xdmf3: every topology has its connectivity item); triangle connectivity
 indexes existing nodes; no dump holds a NaN; checkpoint.h5 is at the last dump; charts are PNGs.
 Usage: check_dyn_outputs.py OUTDIR [--partial]   (--partial: a run stopped early, no charts)"""
-import csv
-import json
 import math
 import os
 import sys
@@ -14,7 +13,9 @@ import xml.etree.ElementTree as ET
 import h5py
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from check_xdmf import check_xdmf  # noqa: E402
+from nacre import read_json, read_rows  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 import numpy as np
 
 out = sys.argv[1]
@@ -33,7 +34,7 @@ cols = ["step", "time", "displacement", "strain_energy", "kinetic_energy", "cohe
         "crack_bed", "crack_head", "crack_tip_x", "crack_tip_y", "crack_extension", "crack_path_length",
         "crack_deflection", "process_zone", "process_zone_extent", "fracture_energy", "crack_speed", "crack_speed_rayleigh", "dt",
         "critical_estimate", "seconds"]
-rows = list(csv.DictReader(open(os.path.join(out, "series.csv"))))
+rows = read_rows(os.path.join(out, "series.csv"))
 check(len(rows) >= (1 if partial else 2), "series.csv has too few rows")
 check(rows and list(rows[0].keys()) == cols, f"series.csv columns {list(rows[0].keys()) if rows else []}")
 for r in rows:
@@ -45,7 +46,7 @@ steps = [int(r["step"]) for r in rows]
 check(steps == sorted(set(steps)), "steps not strictly increasing")
 times = [float(r["time"]) for r in rows]
 check(all(a < b for a, b in zip(times, times[1:])), "time does not increase")
-summary = json.load(open(os.path.join(out, "summary.json")))
+summary = read_json(os.path.join(out, "summary.json"))
 # the crack columns (docs/fracture.md): a part of the ruptured joints, path >= extension, the speed
 # the change of extension between rows, over the Rayleigh speed in summary.json
 crack = summary.get("crack")

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Checks of nacre_dyn_plot.py's rasterised crack picture (the path taken above
+# SPDX-License-Identifier: BSD-3-Clause
+"""Checks of nacre.charts.dyn's rasterised crack picture (the path taken above
 RASTER_TRIANGLES triangles, where drawing polygons one by one costs a minute per million bricks):
 1. raster_image on a known mesh gives the exact pixels: two rectangles, [0, 0.5] x [0, 1] and
    [0.6, 1] x [0, 1], each cut along a diagonal into two triangles with values 1, 2 (left: below,
@@ -16,8 +17,8 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(sys.argv[1], "src", "io"))
-import nacre_dyn_plot as plot  # noqa: E402
+sys.path.insert(0, os.path.join(sys.argv[1], "python"))
+import nacre.charts.dyn as plot  # noqa: E402  (python/nacre/charts/dyn.py)
 
 pts = np.array([[0, 0], [0.5, 0], [0.5, 1], [0, 1], [0.6, 0], [1, 0], [1, 1], [0.6, 1]], dtype=float)
 # vertex orders chosen so that each barycentric condition is the one cut by a diagonal in some

@@ -1,9 +1,8 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end check of a nacre output directory: every file the README promises exists and is
 consistent (CSV columns, XDMF references resolve to HDF5 datasets of the stated shapes, charts
 are PNGs, summary.json parses, the checkpoint holds one pose per brick)."""
-import csv
-import json
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -11,7 +10,9 @@ import xml.etree.ElementTree as ET
 import h5py
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from check_xdmf import check_xdmf  # noqa: E402
+from nacre import read_json, read_rows  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 out = sys.argv[1]
 fail = []
@@ -22,7 +23,7 @@ def check(cond, msg):
         fail.append(msg)
 
 
-rows = list(csv.DictReader(open(os.path.join(out, "steps.csv"))))
+rows = read_rows(os.path.join(out, "steps.csv"))
 check(len(rows) >= 3, "steps.csv has fewer than 3 rows")
 for col in ["step", "displacement", "energy", "reaction", "cycles", "acceptance", "ruptured", "converged",
             "residual", "polish_iterations"]:
@@ -36,7 +37,7 @@ for r in rows:
     check(ext >= 0 and path >= ext * (1 - 1e-9), f"step {r['step']}: crack path {path} shorter than extension {ext}")
 check(all(float(a["displacement"]) < float(b["displacement"]) for a, b in zip(rows, rows[1:])),
       "displacement does not increase")
-summary = json.load(open(os.path.join(out, "summary.json")))
+summary = read_json(os.path.join(out, "summary.json"))
 check(summary["steps"] == len(rows), "summary.json steps != rows")
 check(summary["crack"]["interfaces"] == int(rows[-1]["crack_interfaces"]), "summary.json crack != the last row's")
 if summary.get("convergence") == "residual":  # converged means the residual says so

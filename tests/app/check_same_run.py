@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Two nacre output directories hold the same run, bit for bit: every HDF5 dataset and attribute
 (checkpoint, dumps, mesh), every CSV value and every summary.json entry, except what measures the
 machine (wall and CPU seconds, phase times, threads, ranks) and the chart images. Used for a run
@@ -6,13 +7,14 @@ spread over MPI ranks against the one-process run, and for a restart on another 
 
 usage: check_same_run.py A B [--steps-from K]   (--steps-from: B restarted at step K: its dumps start there)
 """
-import csv
-import json
 import os
 import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from nacre import read_json, read_rows  # noqa: E402  (the reader of nacre's outputs, python/nacre)
 
 argv = sys.argv[1:]
 steps_from = 0
@@ -27,13 +29,8 @@ MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_
            "halo_bytes_per_exchange", "halo_exchanges_per_step"}
 
 
-def rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
 def same_csv(name, drop=("seconds",)):
-    ra, rb = rows(os.path.join(a, name)), rows(os.path.join(b, name))
+    ra, rb = read_rows(os.path.join(a, name)), read_rows(os.path.join(b, name))
     if len(ra) != len(rb):
         fail.append(f"{name}: {len(ra)} rows against {len(rb)}")
         return
@@ -91,7 +88,7 @@ table = "steps.csv" if os.path.exists(os.path.join(a, "steps.csv")) else "series
 same_csv(table)
 if os.path.exists(os.path.join(a, "r_curve.csv")):
     same_csv("r_curve.csv", drop=())
-sa, sb = json.load(open(os.path.join(a, "summary.json"))), json.load(open(os.path.join(b, "summary.json")))
+sa, sb = read_json(os.path.join(a, "summary.json")), read_json(os.path.join(b, "summary.json"))
 for k in sorted(set(sa) | set(sb)):
     if k not in MACHINE and sa.get(k) != sb.get(k):
         fail.append(f"summary.json {k}: {sa.get(k)} against {sb.get(k)}")

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Structural check of nacre.xdmf files as ParaView's default reader (Xdmf3) needs them: every
 Topology has its connectivity DataItem, whose dimensions match NumberOfElements x nodes per
 element (Triangle 3, Polyline NodesPerElement; Mixed: the flat array walks to exactly

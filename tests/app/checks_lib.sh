@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Helpers of the end-to-end shell tests (sourced): one ok:/FAIL: line per case, a count of
 # failures, an expected exit code and message, and a directory's state to show nothing changed.
 fails=0

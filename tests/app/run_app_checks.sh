@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # End-to-end: run the nacre executable on tests/app/tiny.toml, validate every output, then check
 # that a run extended by --restart --extend (to twice the displacement) equals a direct run bit for bit.
 #   run_app_checks.sh NACRE_EXE SOURCE_DIR WORK_DIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The run-time backend choice (`--backend`, include/nacre/core/backend.hpp) through the app:
 #  1. `nacre --backend list` names this build's backends, the default first; `--critical-step`
 #     runs on the backend asked for (the same step on every host backend);

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The README's BIE deck (inputs/dynamic_bie.toml) does what the README says ("done
 # when"): its step is at least 10x BE's critical step on the same deck (found by the app's own
 # `--critical-step` with `method = "be"`), the BIE run finishes (exit 0, no blow-up), and the crack

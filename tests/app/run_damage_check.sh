@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Load programmes and irreversible damage through the app (docs/fracture.md, docs/decks.md):
 #  1. Monte Carlo, tiny.toml loaded to 0.012, unloaded to 0.004, reloaded to 0.016: the rows follow
 #     the path, damage = "auto" turned irreversible (summary.json says so and why), the energy of

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The shipped default deck, as a user runs it, to just past its first rupture (D = 0.07: 35 load
 # steps of 0.002, one with a Monte Carlo burst): exit 0, every step converged below the deck's
 # residual tolerance (1e-6), Newton finished every step (relaxation = "auto"), and the peak force

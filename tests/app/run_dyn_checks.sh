@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # End-to-end test of a dynamic deck (tests/app/tiny_dynamic.toml):
 #  1. the run's outputs are consistent (check_dyn_outputs.py); the crack picture's rasterised
 #     path (large meshes) gives exact pixels and a PNG (check_dyn_plot.py);

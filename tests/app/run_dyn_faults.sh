@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Faults that lost data of dynamic runs, each a case that failed before the outputs moved onto
 # io::RunWriter and the shared driver, with what must hold now (tests/app/tiny_dynamic.toml):
 #  - SIGKILL right after a checkpoint commit: the restart finds every row the checkpoint depends
@@ -70,23 +71,24 @@ sed 's/^charts = false/charts = true/' d.toml > 'bie"q.toml'
 python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['deck'].endswith('bie\"q.toml')" "it's/summary.json" \
   && ok "summary.json of a deck named bie\"q.toml is valid JSON" || bad "summary.json invalid for a quoted deck name"
 
-# ---- a full disk during the charts: the plot script writes a temporary and renames it
-mkdir -p ro && cp -r direct ro/run && python3 - "$src/src/io/nacre_dyn_plot.py" ro/run <<'PY'
-import os, subprocess, sys
+# ---- a full disk during the charts: the chart module writes a temporary and renames it
+# (python3 -m nacre.charts.dyn, run here in this process with savefig failing half-way)
+mkdir -p ro && cp -r direct ro/run && PYTHONPATH="$src/python" python3 - ro/run <<'PY'
+import os, runpy, sys
 import matplotlib.figure
 real = matplotlib.figure.Figure.savefig
-# the script runs in this process with savefig failing half-way, as a full disk would
+# the module runs in this process with savefig failing half-way, as a full disk would
 def failing(self, fname, *a, **k):
     open(fname, "wb").write(b"\x89PNG\r\n\x1a\npartial")
     raise OSError(28, "No space left on device")
 matplotlib.figure.Figure.savefig = failing
-sys.argv = [sys.argv[1], sys.argv[2]]
-sys.path.insert(0, os.path.dirname(sys.argv[0]))
+out = sys.argv[1]
+sys.argv = ["nacre.charts.dyn", out]
 try:
-    exec(compile(open(sys.argv[0]).read(), sys.argv[0], "exec"), {"__name__": "__main__", "__file__": sys.argv[0]})
+    runpy.run_module("nacre.charts.dyn", run_name="__main__", alter_sys=True)  # python3 -m nacre.charts.dyn OUT
 except OSError:
     pass
-left = [f for f in os.listdir(sys.argv[1]) if f.endswith(".png") or ".tmp" in f]
+left = [f for f in os.listdir(out) if f.endswith(".png") or ".tmp" in f]
 sys.exit(1 if left else 0)
 PY
 [ $? -eq 0 ] && ok "a chart write failing half-way leaves no PNG and no temporary" || bad "a failed chart write left a PNG or temporary: $(ls ro/run)"

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # `mpiexec -n N nacre DECK` (docs/scaling.md): the Monte Carlo run spread over MPI ranks writes the
 # files of the one-process run, bit for bit (tests/app/check_same_run.py: every HDF5 dataset and
 # attribute, steps.csv, r_curve.csv, summary.json but the machine's timings):

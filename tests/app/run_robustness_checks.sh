@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Hostile-user checks of the nacre executable: every case states what must hold.
 #   run_robustness_checks.sh NACRE_EXE SOURCE_DIR WORK_DIR
 # Cases: command line (shell injection, --kokkos-* values, a directory as deck), absurd decks

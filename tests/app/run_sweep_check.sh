@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # `nacre sweep` (docs/fracture.md "Sweeps") on the tiny deck:
 #  1. two angles: one run each in OUT/angle=V/, their decks beside them, sweep.json, sweep.csv
 #     (one row per run, the swept value and the crack columns) and sweep.png;

@@ -98,6 +98,53 @@ private:
   bool device_direct_ = false;
 };
 
+/// \brief Where the ranks of a run sit on their node's CPUs (par/comm.cpp check_placement).
+struct Placement {
+  int node_ranks = 1;     ///< ranks on this rank's node
+  int node_cpus = 0;      ///< CPUs the node offers (its cgroup's cpuset, else the online CPUs)
+  bool shared = false;    ///< at start, ranks of one node could run on the same CPU
+  bool rebound = false;   ///< nacre gave each rank of the node CPUs of its own
+  int rank_cpus = 0;      ///< CPUs this rank may run on now
+  std::string cpus;       ///< this rank's CPUs now ("0-1,4")
+  std::string cpus_at_start;  ///< and at start
+};
+
+/// \brief Checks, before Kokkos starts its threads, whether ranks of one node share CPUs (an
+/// unbound launch: `mpirun --oversubscribe`, many containers and schedulers; with OMP_PROC_BIND
+/// set, every unbound rank's OpenMP binds its first thread to the first CPU, so all ranks share
+/// one core and MPI's busy polling starves them). Where they share and `fix`, each rank of the
+/// node is bound to its own contiguous slice of the node's CPUs (what `--bind-to core` does), when
+/// there are at least as many CPUs as ranks. Collective over `comm`; one process: nothing shared.
+[[nodiscard]] Placement check_placement(const Comm& comm, bool fix);
+
+/// \brief The result of the last check_placement (a one-process default before any): what
+/// summary.json records as "placement".
+[[nodiscard]] const Placement& placement();
+
+/// \brief More threads than CPUs: the node's ranks' threads over the node's CPUs. (Not a rank's
+/// threads over its own CPU set: with OMP_PROC_BIND set, OpenMP narrows the first thread's set to
+/// one CPU at start, and places its other threads beside it.)
+[[nodiscard]] inline bool oversubscribed(int threads_per_rank) {
+  const Placement& p = placement();
+  return p.node_cpus > 0 && p.node_ranks * threads_per_rank > p.node_cpus;
+}
+
+/// \brief The placement as summary.json members of j["placement"] (template: no JSON library here).
+template <class Json>
+void put_placement_json(Json& j, int threads_per_rank) {
+  const Placement& p = placement();
+  auto& o = j["placement"];
+  o["node_ranks"] = p.node_ranks;
+  o["node_cpus"] = p.node_cpus;
+  o["threads_per_rank"] = threads_per_rank;
+  o["rank_cpus"] = p.rank_cpus;
+  o["oversubscribed"] = oversubscribed(threads_per_rank);
+  o["shared_at_start"] = p.shared;
+  o["rebound"] = p.rebound;
+  o["cpus_at_start"] = p.cpus_at_start;
+  o["cpus"] = p.cpus;
+}
+
 /// \brief deterministic_sum's combine for a sum shared by the ranks of `comm`: each rank sums its
 /// own terms (the others' indices give 0) and `owned` is how many it owns, so the fold's grids
 /// are those of the one-process sum over all owned terms and the result has its bits.
