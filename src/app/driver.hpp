@@ -110,6 +110,13 @@ private:
   double last_line_ = 0;
 };
 
+/// \brief The deck `text` (read from `deck_path`) with each "SECTION.KEY=VALUE" of `sets` set
+/// (`nacre run DECK --set ...`; the value typed as in a sweep: integer, real, boolean or string),
+/// as TOML text whose first line records the settings. UsageError for a malformed setting,
+/// deck::DeckError for a deck that is not TOML; the result is validated as any deck.
+[[nodiscard]] std::string deck_with_sets(const std::string& deck_path, const std::string& text,
+                                         const std::vector<std::string>& sets);
+
 /// \brief `nacre sweep DECK --set KEY=V1,V2 ...` (argv[1] == "sweep"; src/app/sweep.cpp): one run
 /// per combination of the values, resumable, then sweep.json, sweep.csv and sweep.png.
 int sweep_main(int argc, char* argv[]);

@@ -456,6 +456,7 @@ int main(int argc, char* argv[]) {
   cli.add_subcommand("bench", "time a deck on each backend and check they agree (`nacre bench --help`)");
   std::string deck_path;
   std::string out_override;
+  std::vector<std::string> sets;  // --set KEY=VALUE
   RunOptions opt;
   bool check_only = false, critical = false;
   deck::Deck d;
@@ -464,6 +465,9 @@ int main(int argc, char* argv[]) {
   const auto prepare = [&]() -> int {
     run_cmd->add_option("deck", deck_path, "TOML input deck (see docs/decks.md)")->required();
     run_cmd->add_option("-o,--output", out_override, "output directory (overrides [output] directory)");
+    run_cmd->add_option("--set", sets,
+                        "SECTION.KEY=VALUE: set a deck key for this run (repeatable; validated as the deck is; "
+                        "recorded in the run's deck.toml)");
     run_cmd->add_flag("-q,--quiet", opt.quiet, "no log lines or progress");
     run_cmd->add_flag("--check", check_only, "validate the deck and exit");
     run_cmd->add_option("--restart", opt.restart, "continue a run from its checkpoint.h5 (written at every dump)")
@@ -504,6 +508,14 @@ int main(int argc, char* argv[]) {
 
     try {
       d = deck::parse_deck_file(deck_path);
+      if (!sets.empty()) {
+        const std::string path = d.path;
+        d = deck::parse_deck_string(deck_with_sets(deck_path, d.text, sets), deck_path + " (with --set)");
+        d.path = path;
+      }
+    } catch (const UsageError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+      return 2;
     } catch (const deck::DeckError& e) {
       std::cerr << "nacre: error: " << e.what() << "\n";
       return 2;

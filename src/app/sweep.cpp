@@ -10,6 +10,7 @@
 
 #include <nacre/app/signals.hpp>
 #include <nacre/core/format.hpp>
+#include <nacre/deck/deck.hpp>
 #include <nacre/fracture/r_curve.hpp>
 #include <nacre/io/csv.hpp>
 #include <nacre/io/atomic_file.hpp>
@@ -105,6 +106,32 @@ void set_key(toml::table& deck, const Axis& a, const std::string& v) {
   }
   assign(*t, a.path.back(), v);
 }
+
+}  // namespace
+
+std::string deck_with_sets(const std::string& deck_path, const std::string& text, const std::vector<std::string>& sets) {
+  toml::table t;
+  try {
+    t = toml::parse(text, deck_path);
+  } catch (const toml::parse_error& e) {
+    throw deck::DeckError(deck_path + ":" + std::to_string(e.source().begin.line) + ": (syntax): " +
+                          std::string(e.description()));
+  }
+  std::string said;
+  for (const auto& kv : sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == kv.size())
+      throw UsageError("--set " + kv + ": expected SECTION.KEY=VALUE (e.g. geometry.angle=30)");
+    Axis a = parse_set(kv.substr(0, eq + 1) + "x");  // the key's checks; the value is taken whole
+    set_key(t, a, kv.substr(eq + 1));
+    said += " " + kv;
+  }
+  std::ostringstream out;
+  out << "# nacre: " << deck_path << " with --set" << said << "\n" << t << "\n";
+  return out.str();
+}
+
+namespace {
 
 /// A directory-name-safe form of a value (path separators and the like replaced).
 std::string safe(const std::string& v) {
@@ -235,6 +262,7 @@ std::string sweep_csv(const nlohmann::ordered_json& sweep) {
 
 int sweep_main(int argc, char* argv[]) {
   std::vector<std::string> sets, pass;  // pass: --kokkos-* flags for every run
+  bool list_only = false;
   std::vector<char*> app_args{argv[0]};
   for (int i = 2; i < argc; ++i) {  // argv[1] is "sweep"
     if (std::string_view(argv[i]).starts_with("--kokkos-"))
@@ -250,6 +278,9 @@ int sweep_main(int argc, char* argv[]) {
   cli.add_option("--set", sets, "SECTION.KEY=V1,V2,... (repeatable: every combination is run)")->required();
   cli.add_option("-o,--output", out, "sweep directory (default: the deck's [output] directory + \"_sweep\")");
   cli.add_flag("-q,--quiet", quiet, "no log lines from the runs");
+  cli.add_flag("--list", list_only,
+               "write each run's deck and print one command per run that is still to do (for a "
+               "scheduler's job array), then exit; run the sweep again afterwards for sweep.csv");
   std::vector<Axis> axes;
   if (const int rc = parse_command_line(cli, app_args,
                                         [&] {
@@ -298,7 +329,8 @@ int sweep_main(int argc, char* argv[]) {
   }
   const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
   const std::string exe = ec || self.empty() ? std::string(argv[0]) : self;
-  if (!quiet) std::cout << "nacre: sweep of " << deck_path << ": " << runs.size() << " runs into " << out << "/\n";
+  if (!quiet && !list_only)
+    std::cout << "nacre: sweep of " << deck_path << ": " << runs.size() << " runs into " << out << "/\n";
   nlohmann::ordered_json summary;
   summary["deck"] = deck_path;
   for (const auto& a : axes) summary["keys"].push_back(a.key);
@@ -338,6 +370,15 @@ int sweep_main(int argc, char* argv[]) {
         }
         if (quiet) cmd.emplace_back("-q");
         cmd.insert(cmd.end(), pass.begin(), pass.end());
+        if (list_only) {  // one shell-quoted command line per run still to do
+          for (std::size_t k = 0; k < cmd.size(); ++k) {
+            std::string q = "'";
+            for (char c : cmd[k]) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+            std::cout << (k ? " " : "") << q << "'";
+          }
+          std::cout << "\n";
+          continue;
+        }
         if (!quiet)
           std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << r.name << "\n" << std::flush;
         rc = spawn_and_wait(cmd);
@@ -355,10 +396,11 @@ int sweep_main(int argc, char* argv[]) {
       e["exit"] = rc;
       e["how"] = how;
       summary["runs"].push_back(e);
-      if (!quiet)
+      if (!quiet && !list_only)
         std::cout << "nacre: sweep " << r.name << ": " << how << (rc ? ", exit " + std::to_string(rc) : std::string())
                   << "\n";
     }
+    if (list_only) return 0;
     io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
     io::write_file_atomic(fs::path(out) / "sweep.csv", sweep_csv(summary));
   } catch (const io::WriteError& e) {

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Two nacre output directories hold the same run, bit for bit: every HDF5 dataset and attribute
 (checkpoint, dumps, mesh), every CSV value and every summary.json entry, except what measures the
-machine (wall and CPU seconds, phase times, threads, ranks) and the chart images. Used for a run
+machine (wall and CPU seconds, phase times, threads, ranks, placement) and the chart images. Used for a run
 spread over MPI ranks against the one-process run, and for a restart on another rank count.
 
 usage: check_same_run.py A B [--steps-from K]   (--steps-from: B restarted at step K: its dumps start there)
@@ -26,7 +26,7 @@ a, b = argv
 fail = []
 MACHINE = {"seconds", "cpu_seconds", "phase_seconds", "threads", "ranks", "halo_messages",
            "seconds_per_step", "device_bytes",  # (dynamics: device_bytes is one rank's memory)
-           "halo_bytes_per_exchange", "halo_exchanges_per_step"}
+           "halo_bytes_per_exchange", "halo_exchanges_per_step", "placement"}
 
 
 def same_csv(name, drop=("seconds",)):

@@ -82,3 +82,36 @@ set -e
 [ "$rc" -eq 2 ] && grep -q "relaxation: the trust-region Newton method needs the reversible law" newton_cyclic.err ||
   { cat newton_cyclic.err; echo "FAIL: newton with irreversible damage: exit $rc"; exit 1; }
 echo "newton with a path that turns back: refused (exit 2)"
+
+# The command line of nacre 1.0: --version, the subcommands in --help, `nacre run` / `nacre check`
+# as `nacre DECK` / `--check`, a deck key set for one run (--set, validated as the deck is and
+# recorded in the run's deck.toml), a malformed --set refused before anything is written
+v=$("$exe" --version)
+[ "$(echo "$v" | wc -l)" -eq 3 ] && echo "$v" | head -1 | grep -Eq "^nacre [0-9]+\.[0-9]+\.[0-9]+ \(commit " &&
+  echo "$v" | sed -n 2p | grep -q "^Kokkos [0-9]" || { echo "$v"; echo "FAIL: nacre --version"; exit 1; }
+h=$("$exe" --help)
+for c in run check sweep bench; do
+  echo "$h" | grep -q "^  $c " || { echo "$h"; echo "FAIL: nacre --help does not list $c"; exit 1; }
+done
+"$exe" check "$src/tests/app/tiny.toml" | grep -q "deck is valid" || { echo "FAIL: nacre check"; exit 1; }
+"$exe" run "$src/tests/app/tiny.toml" -o via_run -q
+"$exe" "$src/tests/app/tiny.toml" -o via_deck -q
+diff <(cut -d, -f1-12 via_run/steps.csv) <(cut -d, -f1-12 via_deck/steps.csv) > /dev/null ||
+  { echo "FAIL: nacre run DECK differs from nacre DECK"; exit 1; }
+cmp -s via_run/deck.toml "$src/tests/app/tiny.toml" || { echo "FAIL: deck.toml is not the deck as read"; exit 1; }
+"$exe" "$src/tests/app/tiny.toml" --set geometry.angle=5 -o set5 -q
+grep -q "^# nacre: .* with --set geometry.angle=5" set5/deck.toml && grep -q "^angle = 5" set5/deck.toml ||
+  { cat set5/deck.toml; echo "FAIL: --set not recorded in deck.toml"; exit 1; }
+python3 - set5 via_run <<'PY'
+import json, sys
+a, b = (json.load(open(f"{d}/summary.json")) for d in sys.argv[1:])
+assert a["bricks"] != b["bricks"], "--set geometry.angle=5 changed nothing"
+assert a["nacre"]["version"] == b["nacre"]["version"] and a["kokkos"]["version"]
+PY
+set +e
+"$exe" "$src/tests/app/tiny.toml" --set geometry.angle=abc -o setbad -q 2> setbad.err
+rc=$?
+set -e
+[ "$rc" -eq 2 ] && grep -q "(with --set):.*geometry.angle" setbad.err && [ ! -e setbad ] ||
+  { cat setbad.err; echo "FAIL: a bad --set value: exit $rc"; exit 1; }
+echo "command line: --version, subcommands, run/check, --set recorded in deck.toml, a bad --set refused (exit 2)"

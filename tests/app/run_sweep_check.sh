@@ -61,3 +61,16 @@ set -e
 [ "$rc" -eq 1 ] && grep -q "1 of 2 runs failed" bad2.err || { cat bad2.err; echo "FAIL: a refused value gave $rc"; exit 1; }
 grep -q "mortar.x2" bad2.err || { cat bad2.err; echo "FAIL: the refused key is not named"; exit 1; }
 echo "sweep checks passed"
+
+# 6. --list: each run's deck written, one command per run still to do (the finished ones left
+#    out), nothing run; those commands run (as a job array would), the sweep again keeps them all
+"$exe" sweep "$deck" --set geometry.angle=0,30,60 -o sw --list > list.txt
+[ "$(wc -l < list.txt)" -eq 1 ] && grep -q "angle=60" list.txt && [ -s "sw/angle=60.toml" ] &&
+  [ ! -e "sw/angle=60" ] || { cat list.txt; ls sw; echo "FAIL: sweep --list"; exit 1; }
+bash -e list.txt > /dev/null
+"$exe" sweep "$deck" --set geometry.angle=0,30,60 -o sw -q
+python3 -c "
+import json; j = json.load(open('sw/sweep.json'))
+assert [x['how'] for x in j['runs']] == ['kept (finished before)'] * 3, j['runs']
+" || { echo "FAIL: the listed run was not kept"; exit 1; }
+echo "sweep --list: one command per run to do; run by hand, then kept by the sweep"
