@@ -60,6 +60,18 @@ def split_args(argv, usage, flags=("--quiet",)):
     return pos, seen
 
 
+def command_line(argv, usage, positional=1):
+    """A chart module's start: (positional arguments, flags) from argv (None: sys.argv[1:]),
+    exiting with the usage unless there is exactly `positional` of them; None when matplotlib is
+    missing (the warning is printed: the caller returns 0, the data are complete)."""
+    args, flags = split_args(sys.argv[1:] if argv is None else argv, usage)
+    if len(args) != positional:
+        sys.exit(usage)
+    if not have_matplotlib():
+        return None
+    return args, flags
+
+
 def r_curve_chart(run, quiet=False):
     """r_curve.png of a run directory (both solver families) from the program's r_curve.csv and
     summary.json's crack.toughening_ratio; a run without r_curve.csv gets a one-line warning and

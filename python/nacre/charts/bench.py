@@ -10,7 +10,7 @@ import os
 import sys
 
 from ..results import Bench
-from ._common import have_matplotlib, pyplot, save_png, split_args
+from ._common import command_line, pyplot, save_png
 
 
 def leaf_phases(phases):
@@ -21,11 +21,10 @@ def leaf_phases(phases):
 
 
 def main(argv=None):
-    args, flags = split_args(sys.argv[1:] if argv is None else argv, __doc__)
-    if len(args) != 1:
-        sys.exit(__doc__)
-    if not have_matplotlib():
+    parsed = command_line(argv, __doc__)
+    if parsed is None:
         return 0
+    args, flags = parsed
     d = args[0]
     b = Bench(d)
     j = b.json

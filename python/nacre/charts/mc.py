@@ -13,7 +13,7 @@ import numpy as np
 
 from ..analysis import quadratic_fit
 from ..results import Run
-from ._common import have_matplotlib, pyplot, r_curve_chart, save_png, split_args, warn
+from ._common import command_line, pyplot, r_curve_chart, save_png, warn
 
 
 def path_legs(D):
@@ -131,11 +131,10 @@ def crack(run):
 
 
 def main(argv=None):
-    args, flags = split_args(sys.argv[1:] if argv is None else argv, __doc__)
-    if len(args) != 1:
-        sys.exit(__doc__)
-    if not have_matplotlib():
+    parsed = command_line(argv, __doc__)
+    if parsed is None:
         return 0
+    args, flags = parsed
     run = Run(args[0])
     r_curve_chart(run, quiet="--quiet" in flags)
     t = run.table()

@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 from ..results import Sweep
-from ._common import have_matplotlib, pyplot, save_png, split_args, warn
+from ._common import command_line, pyplot, save_png, warn
 
 
 def number(v):
@@ -57,12 +57,10 @@ def curve_of(entry, row):
 
 
 def main(argv=None):
-    argv = sys.argv[1:] if argv is None else argv
-    args, flags = split_args(argv, __doc__)
-    if len(args) != 1:
-        sys.exit(__doc__)
-    if not have_matplotlib():
+    parsed = command_line(argv, __doc__)
+    if parsed is None:
         return 0
+    args, flags = parsed
     out = args[0]
     sw = Sweep(out)
     t = sw.table()
