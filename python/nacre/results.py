@@ -218,6 +218,15 @@ class Run:
 
 # ---- a sweep -------------------------------------------------------------------------------------
 
+def _directory_json(directory, kind):
+    """KIND.json of a sweep or bench directory as a dict; FileNotFoundError naming the directory
+    when it has none."""
+    p = os.path.join(directory, kind + ".json")
+    if not os.path.exists(p):
+        raise FileNotFoundError(f"{directory} holds no {kind}.json (not a {kind} directory)")
+    return read_json(p)
+
+
 class SweepEntry:
     """One run of a sweep as sweep.json lists it: name, values ({key: value as given to --set}),
     exit (its exit code), how ("run", "kept", ...), directory (where its files are)."""
@@ -255,11 +264,8 @@ class Sweep:
     """
 
     def __init__(self, directory):
-        p = os.path.join(directory, "sweep.json")
-        if not os.path.exists(p):
-            raise FileNotFoundError(f"{directory} holds no sweep.json (not a sweep directory)")
         self.directory = directory
-        self.json = read_json(p)
+        self.json = _directory_json(directory, "sweep")
         self.deck = self.json.get("deck")
         self.keys = list(self.json.get("keys", []))
         self.runs = [SweepEntry(e, directory) for e in self.json.get("runs", [])]
@@ -306,11 +312,8 @@ class Bench:
     """
 
     def __init__(self, directory):
-        p = os.path.join(directory, "bench.json")
-        if not os.path.exists(p):
-            raise FileNotFoundError(f"{directory} holds no bench.json (not a bench directory)")
         self.directory = directory
-        self.json = read_json(p)
+        self.json = _directory_json(directory, "bench")
         self.backends = list(self.json.get("backends", {}))
 
     def __repr__(self):

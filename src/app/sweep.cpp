@@ -223,7 +223,10 @@ std::vector<std::pair<std::string, std::string>> sweep_row(const nlohmann::order
       r.emplace_back("quadratic_coefficient", shortest(q));
       r.emplace_back("critical_displacement", shortest(Dc));
     }
-    if (c.contains("bed_work_of_fracture") && t.column("crack_extension") && t.column("fracture_energy")) {
+    if (c.contains("toughening_ratio")) {  // written by the run (null: fewer than 2 R-curve points)
+      r.emplace_back("toughening_ratio", text(c["toughening_ratio"]));
+    } else if (c.contains("bed_work_of_fracture") && t.column("crack_extension") && t.column("fracture_energy")) {
+      // a run of a nacre before 1.0 kept by the sweep: its R-curve from its table
       const auto rc = fracture::r_curve(t.numbers("crack_extension"), t.numbers("fracture_energy"),
                                         c["thickness"].get<double>(), c["bed_work_of_fracture"].get<double>());
       r.emplace_back("toughening_ratio", shortest(rc.toughening_ratio));
