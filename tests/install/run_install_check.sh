@@ -33,12 +33,15 @@ trap 'rm -rf "$p"' EXIT
 cp -a prefix/. "$p/"
 unshare -m --propagation unchanged env -u NACRE_PYTHON_DIR -u PYTHONPATH bash -c '
   set -euo pipefail
+  trap '\''echo "FAIL: line $LINENO of the hidden-tree check exited with $?"'\'' ERR
   p="$1"; src="$2"; build="$3"
   mount -t tmpfs none "$src"
   case "$build" in "$src"/*) ;; *) mount -t tmpfs none "$build" ;; esac
   [ ! -e "$src/python" ] || { echo "FAIL: the source tree is still visible"; exit 1; }
   cd "$p"
-  bin/nacre --version | head -1
+  # (not piped into head: head exits after one line and nacre, still writing, dies of SIGPIPE)
+  bin/nacre --version > version.txt
+  head -n 1 version.txt
   bin/nacre share/nacre/inputs/default.toml -o run -q 2> err.txt || { cat err.txt; echo "FAIL: the run failed"; exit 1; }
   ! grep -q "warning" err.txt || { cat err.txt; echo "FAIL: the installed run warned (charts?)"; exit 1; }
   for f in steps.csv summary.json r_curve.csv deck.toml energy_force.png crack.png r_curve.png; do
