@@ -140,6 +140,7 @@ class Run:
     run.r_curve()        r_curve.csv as {column: array} (None where the run has none)
     run.toughening_ratio summary.json's crack.toughening_ratio (None: absent, or the crack grew at
                          fewer than 2 rows)
+    run.log()            log.txt, the run's log, as text (None where the run has none)
     run.steps()          the steps that have dumps, ascending
     run.dump(step)       a dump's datasets with .attrs (None: the last dump)
     run.mesh()           mesh.h5's datasets (the static geometry)
@@ -177,6 +178,14 @@ class Run:
         """r_curve.csv (extension, fracture_energy, G_R, toughening) as {column: array}; None
         when the run has none."""
         return read_csv(self.path("r_curve.csv"))
+
+    def log(self):
+        """log.txt (what the run printed) as text; None when the run has none."""
+        try:
+            with open(self.path("log.txt"), encoding="utf-8", errors="replace") as f:
+                return f.read()
+        except FileNotFoundError:
+            return None
 
     @property
     def crack(self):

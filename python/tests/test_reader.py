@@ -166,6 +166,13 @@ class RunChecks(TableChecks):
         """The program's r_curve.csv against the reference where present; absent: None."""
         check_r_curve(self, self.run_)
 
+    def test_log(self):
+        """log.txt: the run's log, from its start line to its results line."""
+        log = self.run_.log()
+        self.assertIsNotNone(log)
+        self.assertTrue(log.startswith("nacre: "), log[:200])
+        self.assertIn("bricks", log.splitlines()[0])
+
     def test_main_describes_it(self):
         p = subprocess.run([sys.executable, "-m", "nacre", self.dir], env=support.env(), capture_output=True, text=True)
         self.assertEqual(p.returncode, 0, p.stderr)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Shared pieces of the run drivers (driver.hpp).
 #include "driver.hpp"
+#include "run_log.hpp"
 
 #include <nacre/app/signals.hpp>
 
@@ -18,7 +19,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <sched.h>
 #include <spawn.h>
+#include <unistd.h>
 #include <string_view>
 #include <sys/wait.h>
 
@@ -31,7 +34,8 @@ extern char** environ;
 namespace nacre::app {
 
 RunSession::RunSession(const deck::Deck& d, bool quiet, bool tty, const Backend& backend)
-    : d_(d), t0_(clock::now()), backend_(backend), log_(quiet ? nullptr : &std::cout),
+    : d_(d), t0_(clock::now()), backend_(backend),
+      log_(!quiet ? &std::cout : RunLog::active() ? &RunLog::active()->file_only() : nullptr),
       progress_(tty && d.output.progress && !quiet), heartbeat_(!tty && !quiet && d.output.heartbeat > 0) {}
 
 double RunSession::elapsed() const { return std::chrono::duration<double>(clock::now() - t0_).count(); }
@@ -52,6 +56,13 @@ io::RunWriter RunSession::open_writer(const io::RunWriter::Options& o, const geo
   }
   io::RunWriter w(o, s, f, resume);
   io::write_file_atomic(w.directory() / io::names::deck_copy, d_.text);  // the deck this run ran
+  if (RunLog* l = RunLog::active()) {  // and its log: a restart into another directory continues a copy
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (resume && !fs::exists(w.directory() / io::names::log) && fs::exists(resume->source_directory / io::names::log))
+      fs::copy_file(resume->source_directory / io::names::log, w.directory() / io::names::log, ec);
+    l->attach(w.directory(), resume.has_value());
+  }
   if (log_ && w.stale_temporaries_removed() > 0)
     *log_ << "nacre: removed " << w.stale_temporaries_removed() << " stale temporary file(s) of a killed run in "
           << w.directory().string() << "/\n";
@@ -89,7 +100,8 @@ int parse_command_line(CLI::App& cli, std::vector<char*>& args, const std::funct
   return -1;
 }
 
-int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env_set) {
+int spawn_start(const std::vector<std::string>& argv, const std::vector<std::string>& env_set,
+                const std::vector<int>& cpus) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -103,13 +115,38 @@ int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::
   }
   for (const auto& s : env_set) env.push_back(const_cast<char*>(s.c_str()));
   env.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), env.data()) != 0) return kNotStarted;
+  if (cpus.empty()) {
+    pid_t pid = 0;
+    return posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), env.data()) == 0 ? static_cast<int>(pid)
+                                                                                        : kNotStarted;
+  }
+  // on CPUs of its own: the mask is set between fork and exec (posix_spawn has no attribute for
+  // it); only async-signal-safe calls in the child
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  for (int c : cpus) CPU_SET(c, &set);
+  const pid_t pid = fork();
+  if (pid < 0) return kNotStarted;
+  if (pid == 0) {
+    sched_setaffinity(0, sizeof set, &set);
+    execvpe(args[0], args.data(), env.data());
+    _exit(127);
+  }
+  return static_cast<int>(pid);
+}
+
+int exit_code(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
+}
+
+int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env_set) {
+  const int pid = spawn_start(argv, env_set, {});
+  if (pid == kNotStarted) return kNotStarted;
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return kNotStarted;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
+  return exit_code(status);
 }
 
 namespace {
@@ -202,7 +239,7 @@ bool run_charts(const std::string& chart, const std::filesystem::path& dir, std:
   }
   // an argument vector, no shell: the output path is never interpreted
   std::vector<std::string> cmd{"python3", "-m", "nacre.charts." + chart, dir.string()};
-  if (!log) cmd.emplace_back("--quiet");
+  if (log != &std::cout) cmd.emplace_back("--quiet");  // none, or a quiet run's log file: the module prints nothing
   const char* old = std::getenv("PYTHONPATH");
   const std::string path = "PYTHONPATH=" + py.string() + (old && *old ? ":" + std::string(old) : std::string());
   const int rc = spawn_and_wait(cmd, {path});

@@ -41,6 +41,14 @@ inline constexpr int kNotStarted = -1;
 /// 128 + signal when it was killed, or kNotStarted.
 int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env_set = {});
 
+/// \brief spawn_and_wait without the wait: the child's pid, or kNotStarted; on the CPUs `cpus`
+/// (its affinity mask, inherited by the threads it starts) when not empty.
+int spawn_start(const std::vector<std::string>& argv, const std::vector<std::string>& env_set,
+                const std::vector<int>& cpus);
+
+/// \brief A waitpid status as an exit code: the child's, or 128 + the signal that killed it.
+int exit_code(int status);
+
 /// \brief The directory that holds the nacre Python package (nacre/__init__.py): NACRE_PYTHON_DIR
 /// when set; else PREFIX/share/nacre/python beside an installed PREFIX/bin/nacre; else the source
 /// tree's python/ (a build tree); empty when none is found.

@@ -18,6 +18,7 @@
 #include <nacre/par/comm.hpp>
 
 #include "driver.hpp"
+#include "run_log.hpp"
 #include "dyn_fields.hpp"
 #include "progress.hpp"
 #include <nacre/app/run_dynamics.hpp>
@@ -588,6 +589,8 @@ int main(int argc, char* argv[]) {
   if (rc >= 0) return rc;
   silent.reset();
   if (comm.rank() != 0) opt.quiet = true;  // rank 0 logs
+  std::optional<RunLog> run_log;  // rank 0's lines, also in the run directory's log.txt
+  if (comm.rank() == 0 && !critical) run_log.emplace();
   if (comm.size() > 1) {
     const bool aware = par::mpi_device_aware();
     comm.set_device_direct(opt.gpu_aware_mpi == "on" || (opt.gpu_aware_mpi == "auto" && aware));

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// `nacre sweep DECK --set KEY=V1,V2 [--set KEY=...] [-o OUT]`: one run of the deck per combination
-// of the values, each in OUT/<leaf>=<value>[_<leaf>=<value>...]/ from a deck written beside it
-// (the deck with the keys set, OUT/<name>.toml), as a child nacre process (a crash or a bad value
-// stops that run, not the sweep). Resumable: a finished run is kept, an interrupted one restarted
+// `nacre sweep DECK --set KEY=V1,V2 [--set KEY=...] [-o OUT] [-j N]`: one run of the deck per
+// combination of the values, each in OUT/<leaf>=<value>[_<leaf>=<value>...]/ from a deck written
+// beside it (the deck with the keys set, OUT/<name>.toml), as a child nacre process (a crash or a
+// bad value stops that run, not the sweep); with -j N, N children at once, each bound to a slice
+// of the CPUs (an unbound child would share CPU 0 with the others under OMP_PROC_BIND). Resumable: a finished run is kept, an interrupted one restarted
 // from its checkpoint. Then sweep.json (the runs and their outcomes) and the combined table and
 // sweep.csv (one row per run, computed here), and the overlay charts (python -m nacre.charts.sweep:
 // sweep.png; docs/fracture.md "Sweeps").
@@ -15,12 +16,16 @@
 #include <nacre/io/csv.hpp>
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/names.hpp>
+#include <nacre/par/comm.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <toml++/toml.hpp>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <sys/wait.h>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -261,6 +266,35 @@ std::string sweep_csv(const nlohmann::ordered_json& sweep) {
   return out;
 }
 
+/// \brief The node's CPUs (par::node_cpu_ids) in `n` slices, one per run at once: contiguous
+/// slices of at least one CPU; with more runs than CPUs, the CPUs are dealt round. Every child gets
+/// its slice explicitly: it would otherwise inherit this process's mask, which an OpenMP runtime
+/// with OMP_PLACES or OMP_PROC_BIND set has narrowed to one CPU as the program started.
+std::vector<std::vector<int>> cpu_slots(std::size_t n) {
+  const std::vector<int> cpus = par::node_cpu_ids();
+  if (cpus.empty()) return std::vector<std::vector<int>>(n);  // unknown: no binding
+  std::vector<std::vector<int>> slots(n);
+  if (cpus.size() >= n) {
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t c = k * cpus.size() / n; c < (k + 1) * cpus.size() / n; ++c) slots[k].push_back(cpus[c]);
+  } else {
+    for (std::size_t k = 0; k < n; ++k) slots[k].push_back(cpus[k % cpus.size()]);
+  }
+  return slots;
+}
+
+/// \brief CPUs as a list with ranges: "0-3,8".
+std::string cpu_text(const std::vector<int>& cpus) {
+  std::string t;
+  for (std::size_t k = 0; k < cpus.size();) {
+    std::size_t e = k;
+    while (e + 1 < cpus.size() && cpus[e + 1] == cpus[e] + 1) ++e;
+    t += (t.empty() ? "" : ",") + std::to_string(cpus[k]) + (e > k ? "-" + std::to_string(cpus[e]) : "");
+    k = e + 1;
+  }
+  return t;
+}
+
 }  // namespace
 
 int sweep_main(int argc, char* argv[]) {
@@ -277,10 +311,15 @@ int sweep_main(int argc, char* argv[]) {
                "nacre sweep"};
   std::string deck_path, out;
   bool quiet = false;
+  std::size_t jobs = 1;
   cli.add_option("deck", deck_path, "TOML input deck")->required()->check(CLI::ExistingFile);
   cli.add_option("--set", sets, "SECTION.KEY=V1,V2,... (repeatable: every combination is run)")->required();
   cli.add_option("-o,--output", out, "sweep directory (default: the deck's [output] directory + \"_sweep\")");
   cli.add_flag("-q,--quiet", quiet, "no log lines from the runs");
+  cli.add_option("-j,--jobs", jobs,
+                 "runs at once (default 1), each on a slice of the CPUs with as many threads, its log lines in "
+                 "its log.txt")
+      ->check(CLI::PositiveNumber);
   cli.add_flag("--list", list_only,
                "write each run's deck and print one command per run that is still to do (for a "
                "scheduler's job array), then exit; run the sweep again afterwards for sweep.csv");
@@ -337,73 +376,147 @@ int sweep_main(int argc, char* argv[]) {
   nlohmann::ordered_json summary;
   summary["deck"] = deck_path;
   for (const auto& a : axes) summary["keys"].push_back(a.key);
-  int failed = 0;
-  // Ctrl-C reaches the run in progress too (it checkpoints and exits 130); a SIGTERM sent to the
-  // sweep alone lets the run in progress finish; either way no further run starts
-  SignalGuard signals;
-  try {
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const auto& r = runs[i];
-      const fs::path dir = fs::path(out) / r.name, deck = fs::path(out) / (r.name + ".toml");
-      toml::table t = base;
-      try {
-        for (std::size_t k = 0; k < axes.size(); ++k) set_key(t, axes[k], r.values[k]);
-      } catch (const UsageError& e) {
-        std::cerr << "nacre: error: " << e.what() << "\n";
-        return 2;
-      }
-      std::ostringstream text;
-      text << "# nacre sweep: " << deck_path << " with " << r.name << "\n" << t << "\n";
-      io::write_file_atomic(deck, text.str());
-      int rc = 0;
-      std::string how;
-      if (const std::string o = outcome(dir); o == "done") {
-        how = "kept (finished before)";
-      } else if (o == "unstable") {
-        how = "kept (stopped unstable before: exit 3)";
-        rc = 3;
-      } else {
-        std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
-        if (const fs::path cp = dir / io::names::checkpoint; fs::exists(cp)) {
-          cmd.insert(cmd.end(), {"--restart", cp.string()});
-          how = "restarted from its checkpoint";
-        } else {
-          cmd.emplace_back("--overwrite");
-          how = "run";
-        }
-        if (quiet) cmd.emplace_back("-q");
-        cmd.insert(cmd.end(), pass.begin(), pass.end());
-        if (list_only) {  // one shell-quoted command line per run still to do
-          for (std::size_t k = 0; k < cmd.size(); ++k) {
-            std::string q = "'";
-            for (char c : cmd[k]) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-            std::cout << (k ? " " : "") << q << "'";
-          }
-          std::cout << "\n";
-          continue;
-        }
-        if (!quiet)
-          std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << r.name << "\n" << std::flush;
-        rc = spawn_and_wait(cmd);
-        if (rc == 130 || rc == 143 || pending_signal() != 0) {
-          std::cerr << "nacre: sweep stopped by a signal during " << r.name
-                    << "; run the same command again to resume\n";
-          return rc == 130 || rc == 143 ? rc : 128 + pending_signal();
-        }
-      }
-      if (rc != 0) ++failed;
-      nlohmann::ordered_json e;
-      e["name"] = r.name;
-      e["directory"] = dir.string();
-      for (std::size_t k = 0; k < axes.size(); ++k) e["values"][axes[k].key] = r.values[k];
-      e["exit"] = rc;
-      e["how"] = how;
-      summary["runs"].push_back(e);
-      if (!quiet && !list_only)
-        std::cout << "nacre: sweep " << r.name << ": " << how << (rc ? ", exit " + std::to_string(rc) : std::string())
-                  << "\n";
+  if (jobs > 1) summary["jobs"] = jobs;
+  // the runs in order: each one's deck written, finished ones kept, the others' commands made
+  struct Job {
+    std::size_t run;
+    std::vector<std::string> cmd;
+  };
+  std::vector<Job> todo;
+  std::vector<int> exits(runs.size(), 0);
+  std::vector<std::string> hows(runs.size());
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto& r = runs[i];
+    const fs::path dir = fs::path(out) / r.name, deck = fs::path(out) / (r.name + ".toml");
+    toml::table t = base;
+    try {
+      for (std::size_t k = 0; k < axes.size(); ++k) set_key(t, axes[k], r.values[k]);
+    } catch (const UsageError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+      return 2;
     }
-    if (list_only) return 0;
+    std::ostringstream text;
+    text << "# nacre sweep: " << deck_path << " with " << r.name << "\n" << t << "\n";
+    try {
+      io::write_file_atomic(deck, text.str());
+    } catch (const io::WriteError& e) {
+      std::cerr << "nacre: error: " << e.what() << "\n";
+      return 1;
+    }
+    if (const std::string o = outcome(dir); o == "done" || o == "unstable") {
+      hows[i] = o == "done" ? "kept (finished before)" : "kept (stopped unstable before: exit 3)";
+      exits[i] = o == "done" ? 0 : 3;
+      if (!quiet && !list_only)
+        std::cout << "nacre: sweep " << r.name << ": " << hows[i] << (exits[i] ? ", exit 3" : "") << "\n";
+      continue;
+    }
+    std::vector<std::string> cmd{exe, deck.string(), "-o", dir.string()};
+    if (const fs::path cp = dir / io::names::checkpoint; fs::exists(cp)) {
+      cmd.insert(cmd.end(), {"--restart", cp.string()});
+      hows[i] = "restarted from its checkpoint";
+    } else {
+      cmd.emplace_back("--overwrite");
+      hows[i] = "run";
+    }
+    // several at once: each run's log lines go to its log.txt alone (warnings and errors still here)
+    if (quiet || jobs > 1) cmd.emplace_back("-q");
+    cmd.insert(cmd.end(), pass.begin(), pass.end());
+    if (list_only) {  // one shell-quoted command line per run still to do
+      for (std::size_t k = 0; k < cmd.size(); ++k) {
+        std::string q = "'";
+        for (char c : cmd[k]) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        std::cout << (k ? " " : "") << q << "'";
+      }
+      std::cout << "\n";
+      continue;
+    }
+    todo.push_back({i, cmd});
+  }
+  if (list_only) return 0;
+  // --jobs N: N runs at once, each on CPUs of its own (a slice of this process's CPUs, its threads
+  // as many unless --kokkos-num-threads was given): runs that shared CPUs would wait for each other
+  const std::vector<std::vector<int>> slots = cpu_slots(jobs);
+  const bool threads_given = std::any_of(pass.begin(), pass.end(), [](const std::string& a) {
+    return a.starts_with("--kokkos-num-threads") || a.starts_with("--kokkos-threads");
+  });
+  int failed = 0;
+  // Ctrl-C reaches the runs in progress too (they checkpoint and exit 130); a SIGTERM sent to the
+  // sweep alone lets the runs in progress finish; either way no further run starts
+  SignalGuard signals;
+  std::vector<std::pair<int, std::size_t>> active;  // (pid, slot) per run in progress, by todo index
+  std::vector<std::size_t> active_job;
+  std::vector<bool> slot_busy(slots.size(), false);
+  int stop_rc = 0;
+  std::string stopped_in;
+  std::size_t next = 0;
+  const auto finish = [&](std::size_t j, int rc) {
+    const std::size_t i = todo[j].run;
+    exits[i] = rc;
+    if (rc == 130 || rc == 143 || pending_signal() != 0) {
+      if (!stop_rc) stop_rc = rc == 130 || rc == 143 ? rc : 128 + pending_signal();
+      stopped_in += (stopped_in.empty() ? "" : ", ") + runs[i].name;
+    }
+    if (!quiet && stop_rc == 0)
+      std::cout << "nacre: sweep " << runs[i].name << ": " << hows[i] << (rc ? ", exit " + std::to_string(rc) : std::string())
+                << "\n" << std::flush;
+  };
+  while ((next < todo.size() && stop_rc == 0 && pending_signal() == 0) || !active.empty()) {
+    while (next < todo.size() && active.size() < slots.size() && stop_rc == 0 && pending_signal() == 0) {
+      const std::size_t slot = static_cast<std::size_t>(std::find(slot_busy.begin(), slot_busy.end(), false) - slot_busy.begin());
+      std::vector<std::string> cmd = todo[next].cmd;
+      const std::vector<int>& cpus = slots[slot];
+      if (jobs > 1 && !threads_given) cmd.push_back("--kokkos-num-threads=" + std::to_string(std::max<std::size_t>(1, cpus.size())));
+      const std::size_t i = todo[next].run;
+      if (!quiet) {
+        std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << runs[i].name;
+        if (jobs > 1 && !cpus.empty()) std::cout << " (CPUs " << cpu_text(cpus) << ", log in " << runs[i].name << "/log.txt)";
+        std::cout << "\n" << std::flush;
+      }
+      const int pid = spawn_start(cmd, {}, cpus);
+      if (pid == kNotStarted) {
+        finish(next++, 127);
+        continue;
+      }
+      slot_busy[slot] = true;
+      active.emplace_back(pid, slot);
+      active_job.push_back(next++);
+    }
+    if (active.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      std::cerr << "nacre: error: waiting for the sweep's runs: " << std::strerror(errno) << "\n";
+      return 1;
+    }
+    for (std::size_t a = 0; a < active.size(); ++a)
+      if (active[a].first == pid) {
+        slot_busy[active[a].second] = false;
+        finish(active_job[a], exit_code(status));
+        active.erase(active.begin() + static_cast<std::ptrdiff_t>(a));
+        active_job.erase(active_job.begin() + static_cast<std::ptrdiff_t>(a));
+        break;
+      }
+  }
+  if (stop_rc != 0 || pending_signal() != 0) {
+    std::cerr << "nacre: sweep stopped by a signal" << (stopped_in.empty() ? "" : " during " + stopped_in)
+              << "; run the same command again to resume\n";
+    return stop_rc ? stop_rc : 128 + pending_signal();
+  }
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto& r = runs[i];
+    if (exits[i] != 0) ++failed;
+    nlohmann::ordered_json e;
+    e["name"] = r.name;
+    e["directory"] = (fs::path(out) / r.name).string();
+    for (std::size_t k = 0; k < axes.size(); ++k) e["values"][axes[k].key] = r.values[k];
+    e["exit"] = exits[i];
+    e["how"] = hows[i];
+    list.push_back(e);
+  }
+  summary["runs"] = list;
+  try {
     io::write_file_atomic(fs::path(out) / "sweep.json", summary.dump(2) + "\n");
     io::write_file_atomic(fs::path(out) / "sweep.csv", sweep_csv(summary));
   } catch (const io::WriteError& e) {

@@ -76,7 +76,8 @@ std::string cpu_list(const cpu_set_t& set) {
   return out;
 }
 
-/// The CPUs the node offers this process: the cgroup's effective cpuset, else every online CPU.
+}  // namespace
+
 std::vector<int> node_cpu_ids() {
   std::vector<int> ids;
   std::ifstream in("/sys/fs/cgroup/cpuset.cpus.effective");
@@ -94,7 +95,6 @@ std::vector<int> node_cpu_ids() {
     for (long c = 0; c < sysconf(_SC_NPROCESSORS_ONLN); ++c) ids.push_back(static_cast<int>(c));
   return ids;
 }
-}  // namespace
 
 namespace {
 Placement& last_placement() {

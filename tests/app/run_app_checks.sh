@@ -22,6 +22,13 @@ sed 's/^heartbeat = .*/heartbeat = 0/' beat.toml > quiet_beat.toml
 if grep -q "in progress" beat0.log; then echo "FAIL: heartbeat = 0 still wrote heartbeat lines"; exit 1; fi
 grep -q "^  step 1: D = " beat0.log || { cat beat0.log; echo "FAIL: no step line"; exit 1; }
 echo "heartbeat: $(grep -c 'in progress' beat.log) lines within steps at heartbeat 1e-9, none at 0"
+# the run directory keeps the run's log: what it printed (off a terminal, every line), and for a
+# quiet run (-q) its log lines all the same; a restart appends to the log it continues
+cmp beat.log beat/log.txt || { diff beat.log beat/log.txt; echo "FAIL: log.txt is not what the run printed"; exit 1; }
+grep -q "^nacre: .*tiny.toml: .* bricks" short/log.txt && grep -q "^nacre: --- restarted ---" short/log.txt &&
+  [ "$(grep -c "^  step 1: D = " short/log.txt)" -eq 1 ] ||
+  { cat short/log.txt; echo "FAIL: the quiet run's log.txt (its lines, then the restart's)"; exit 1; }
+echo "log.txt: the run's lines ($(wc -l < beat/log.txt) off a terminal), a quiet run's and its restart's"
 # every column but the wall time must agree exactly
 if ! diff <(cut -d, -f1-12 short/steps.csv) <(cut -d, -f1-12 direct/steps.csv); then
   echo "FAIL: restarted run differs from the direct run"; exit 1

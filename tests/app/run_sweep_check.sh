@@ -74,3 +74,17 @@ import json; j = json.load(open('sw/sweep.json'))
 assert [x['how'] for x in j['runs']] == ['kept (finished before)'] * 3, j['runs']
 " || { echo "FAIL: the listed run was not kept"; exit 1; }
 echo "sweep --list: one command per run to do; run by hand, then kept by the sweep"
+
+# 7. --jobs 2: two runs at once, each on CPUs of its own, each one's log in its log.txt; the
+#    same sweep.csv as the one run after another (every run is deterministic)
+"$exe" sweep "$deck" --set geometry.angle=0,30,60 -o sw3 -j 2 > jobs.out
+grep -q "sweep run 1/3: angle=0 (CPUs " jobs.out || { cat jobs.out; echo "FAIL: -j 2 did not name the runs' CPUs"; exit 1; }
+cmp sw/sweep.csv sw3/sweep.csv || { diff sw/sweep.csv sw3/sweep.csv; echo "FAIL: -j 2 changed sweep.csv"; exit 1; }
+for a in 0 30 60; do
+  grep -q "^nacre: .*angle=$a.toml: " "sw3/angle=$a/log.txt" || { cat "sw3/angle=$a/log.txt"; echo "FAIL: angle=$a/log.txt"; exit 1; }
+done
+python3 -c "
+import json; j = json.load(open('sw3/sweep.json'))
+assert j['jobs'] == 2 and [x['how'] for x in j['runs']] == ['run'] * 3, j
+"
+echo "sweep -j 2: 3 runs, two at once, the same sweep.csv, a log per run"

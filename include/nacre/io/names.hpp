@@ -17,9 +17,10 @@ inline constexpr std::string_view mc_table = "steps.csv";    ///< Monte Carlo: o
 inline constexpr std::string_view dyn_table = "series.csv";  ///< dynamics: one row per csv_interval steps
 inline constexpr std::string_view r_curve = "r_curve.csv";  ///< the R-curve (fracture/r_curve.hpp)
 inline constexpr std::string_view deck_copy = "deck.toml";  ///< the deck the run ran, as given
+inline constexpr std::string_view log = "log.txt";          ///< the run's log (app/run_log.hpp)
 /// \brief Derived files a new run replaces: the charts (python -m nacre.charts.mc / .dyn), the
-/// R-curve and the deck's copy.
-inline constexpr std::array<std::string_view, 5> charts = {"energy_force.png", "crack.png", "r_curve.png",
-                                                           "r_curve.csv", "deck.toml"};
+/// R-curve, the deck's copy and the log.
+inline constexpr std::array<std::string_view, 6> charts = {"energy_force.png", "crack.png", "r_curve.png",
+                                                           "r_curve.csv", "deck.toml", "log.txt"};
 
 }  // namespace nacre::io::names

@@ -98,6 +98,11 @@ private:
   bool device_direct_ = false;
 };
 
+/// \brief The CPUs the node offers this process: its cgroup's effective cpuset, else every online
+/// CPU (not the affinity mask: an OpenMP runtime with OMP_PLACES or OMP_PROC_BIND set binds the
+/// initial thread to the first place as the program starts).
+[[nodiscard]] std::vector<int> node_cpu_ids();
+
 /// \brief Where the ranks of a run sit on their node's CPUs (par/comm.cpp check_placement).
 struct Placement {
   int node_ranks = 1;     ///< ranks on this rank's node
