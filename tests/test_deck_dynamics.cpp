@@ -207,3 +207,36 @@ TEST_CASE("deck dynamics: quadrature_points reaches the solver, BIE keys with an
   typo.replace(typo.find("final_displacement = 0.001"), 26, "final_displacement = 0.001\nbendng = 1.0");
   CHECK_THAT(error_of(typo), StartsWith("dyn.toml:15: load.bendng: unknown key"));
 }
+
+TEST_CASE("deck dynamics: a key the method ignores is an error, and every physical value has a range", "[deck][dyn]") {
+  // keys of one method or one solve variant, given with another: refused, not ignored
+  CHECK_THAT(error_of(base + "method = \"be\"\ninternal_stiffness_factor = 2.0\n"),
+             StartsWith("dyn.toml:19: dynamics.internal_stiffness_factor: sets the internal joints of method = \"ue\" only"));
+  CHECK_THAT(error_of(base + "internal_stiffness_factor = 2.0\n"),  // the default method, be
+             StartsWith("dyn.toml:18: dynamics.internal_stiffness_factor:"));
+  CHECK(error_of(base + "method = \"ue\"\ninternal_stiffness_factor = 2.0\n").empty());
+  CHECK_THAT(error_of(base + "method = \"bie\"\nbie_block = 4\n"),
+             StartsWith("dyn.toml:19: dynamics.bie_block: sets the block rows of bie_solve = \"reordered\" only"));
+  CHECK_THAT(error_of(base + "method = \"bie\"\nbie_solve = \"row\"\nbie_block = 4\n"),
+             StartsWith("dyn.toml:20: dynamics.bie_block:"));
+  CHECK(parse_deck_string(base + "method = \"bie\"\nbie_solve = \"reordered\"\nbie_block = 5\n", "dyn.toml")
+            .dynamics.bie_block == 5);
+  // values that would reach the first step only to stop as unstable (or overflow): deck errors
+  for (const char* bad : {"youngs_modulus = 1e300", "youngs_modulus = 1e-300", "stiffness_ratio = 1e300",
+                          "stiffness_ratio = 1e-300", "density = 1e300", "density = 1e-300", "thickness = 1e300",
+                          "force_top = 1e300", "force_top = -1e300"}) {
+    INFO(bad);
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(' '));
+    CHECK_THAT(error_of(base + bad + "\n"), StartsWith("dyn.toml:18: dynamics." + key + ": value"));
+    CHECK_THAT(error_of(base + bad + "\n"), ContainsSubstring("out of range"));
+  }
+  std::string fast = base;
+  fast.replace(fast.find("rate = 100.0"), 12, "rate = 1e300");
+  CHECK_THAT(error_of(fast), StartsWith("dyn.toml:17: dynamics.rate: value 1e+300 out of range"));
+  CHECK_THAT(error_of(base + "method = \"ue\"\ninternal_stiffness_factor = 1e300\n"),
+             StartsWith("dyn.toml:19: dynamics.internal_stiffness_factor: value"));
+  // the ends of the ranges are real materials: a gel, diamond, an aerogel, osmium
+  CHECK(error_of(base + "youngs_modulus = 1e-3\ndensity = 1e-12\n").empty());
+  CHECK(error_of(base + "youngs_modulus = 1.2e6\ndensity = 2.26e-8\n").empty());
+  CHECK(error_of(base + "force_top = -1e5\n").empty());
+}

@@ -272,6 +272,7 @@ TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state val
   app::DynCheckpoint c;
   c.method = "be", c.step = 100, c.time = 1e-6, c.dt = 1e-8, c.end_time = d.dynamics.end_time;
   for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
+  c.state["clock"] = {100.0, 1e-8};  // step and start dt, as the checkpoint's books say
   const auto path = std::filesystem::temp_directory_path() / ("nacre_nan_cp_" + std::to_string(::getpid()) + ".h5");
   io::write_checkpoint(path, app::to_named(c, d));
   CHECK_NOTHROW(app::read_dyn_checkpoint(path, d));
@@ -284,6 +285,31 @@ TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state val
     CHECK_THAT(e.what(), ContainsSubstring("state array '" + c.state.begin()->first +
                                            "' holds a non-finite value at index 1"));
   }
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("a dynamic checkpoint whose state clock disagrees with its books is refused with both values",
+          "[io][checkpoint][dyn]") {
+  // (exit 2 before anything is built: it used to be exit 1 from the simulation, "dt = 0.000000 s")
+  const deck::Deck d = deck::parse_deck_file(NACRE_SOURCE_DIR "/tests/app/tiny_dynamic.toml");
+  app::DynCheckpoint c;
+  c.method = "be", c.step = 100, c.time = 1e-6, c.dt = 1.25e-8, c.end_time = d.dynamics.end_time;
+  for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
+  const auto path = std::filesystem::temp_directory_path() / ("nacre_clock_cp_" + std::to_string(::getpid()) + ".h5");
+  const auto refused = [&](const std::vector<double>& clock) -> std::string {
+    c.state["clock"] = clock;
+    io::write_checkpoint(path, app::to_named(c, d));  // a valid checksum over the edit
+    try {
+      (void)app::read_dyn_checkpoint(path, d);
+    } catch (const io::CheckpointError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(refused({100.0, 1.25e-8}).empty());
+  CHECK_THAT(refused({100.0, 1.5e-8}),
+             ContainsSubstring("the state was saved with dt = 1.5e-08 s, the checkpoint says dt = 1.25e-08 s"));
+  CHECK_THAT(refused({99.0, 1.25e-8}), ContainsSubstring("the state's clock is at step 99, the checkpoint says step 100"));
   std::filesystem::remove(path);
 }
 

@@ -174,6 +174,19 @@ DynCheckpoint read_dyn_checkpoint(const std::filesystem::path& path, const deck:
       if (!std::isfinite(v[i]))
         throw io::CheckpointError(path.string() + ": state array '" + name + "' holds a non-finite value at index " +
                                   std::to_string(i) + " (a checkpoint is written only from checked, finite states)");
+  // the state's own clock against the checkpoint's books: a disagreement is a damaged or
+  // hand-edited file, refused here by value (exit 2) rather than by the simulation mid-restore
+  const std::vector<double>& clock = k.arrays.at("clock");
+  if (clock.size() >= 2) {
+    if (clock[0] != static_cast<double>(c.step)) {
+      std::snprintf(b, sizeof b, ": the state's clock is at step %.17g, the checkpoint says step %ld", clock[0], c.step);
+      throw io::CheckpointError(path.string() + b + "; expected the two to agree (a damaged or edited checkpoint)");
+    }
+    if (clock[1] != c.dt) {
+      std::snprintf(b, sizeof b, ": the state was saved with dt = %.9g s, the checkpoint says dt = %.9g s", clock[1], c.dt);
+      throw io::CheckpointError(path.string() + b + "; expected the two to agree (a damaged or edited checkpoint)");
+    }
+  }
   c.state = k.arrays;
   return c;
 }

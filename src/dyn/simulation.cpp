@@ -29,6 +29,7 @@
 
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -852,9 +853,11 @@ void Simulation::restore_state(const StateArrays& a) {
     const auto& clock = a.at("clock");
     if (clock.size() != 3 && clock.size() != 10 && clock.size() != 11)
       throw std::runtime_error("dyn::restore_state: 'clock' needs 3 or 10 (older nacre) or 11 values");
-    if (clock[1] != I.dt0)
-      throw std::runtime_error("dyn::restore_state: saved with dt = " + std::to_string(clock[1]) +
-                               " s, this run has dt = " + std::to_string(I.p.dt) + " s");
+    if (clock[1] != I.dt0) {
+      char b[160];
+      std::snprintf(b, sizeof b, "dyn::restore_state: saved with dt = %.9g s, this run has dt = %.9g s", clock[1], I.dt0);
+      throw std::runtime_error(b);
+    }
     const auto& M = I.map;
     const auto ne = static_cast<std::size_t>(M.n_elem);
     scatter_rows(I.comm, I.u, a.at("u"), M.elem_global, ne, "u");

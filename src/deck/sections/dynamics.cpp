@@ -66,6 +66,9 @@ void read_dynamics(Section& top, Deck& d) {
     s.integer("bie_iterations", {}, ni, 1, 16, "1 to 16 (iterations with the constant Jacobian per step)");
     D.bie_iterations = static_cast<int>(ni);
   }
+  if (s.find("bie_block", {}) != nullptr && D.bie_solve != "reordered")
+    s.fail("bie_block", "sets the block rows of bie_solve = \"reordered\" only, and this deck's bie_solve is \"" +
+                            D.bie_solve + "\"; expected bie_solve = \"reordered\" or no bie_block");
   s.string("bie_scheme", D.bie_scheme, {"auto", "iterate", "split"},
            "\"auto\", \"iterate\" (eq. 4.6: bie_iterations iterations with the constant Jacobian) or \"split\" (half "
            "kicks around one implicit-midpoint solve of the bricks: docs/methods.md)");
@@ -76,17 +79,30 @@ void read_dynamics(Section& top, Deck& d) {
     D.bie_scheme = "iterate";  // "auto" with an iteration count: the iterated step was asked for
   }
 
+  // Physical values in ranges that say why: beyond them a run reaches its first step only to stop
+  // as unstable (or overflow), so the deck refuses them with the key's line instead.
   const bool has_ratio = s.find("stiffness_ratio", {}) != nullptr;
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
   if (has_ratio && has_e)
     s.fail("youngs_modulus", "given together with stiffness_ratio; expected one of the two (E = 214.99 r N/mm^2)");
-  s.number("stiffness_ratio", {}, D.stiffness_ratio, positive, "a positive ratio r (E = 214.99 r N/mm^2)");
-  s.number("youngs_modulus", {}, D.youngs_modulus, positive, "a positive modulus in N/mm^2");
+  const auto within = [](double lo, double hi) { return [lo, hi](double v) { return v >= lo && v <= hi; }; };
+  s.number("stiffness_ratio", {}, D.stiffness_ratio, within(1e-3 / 214.99, 1e7 / 214.99),
+           "a ratio r in [4.7e-6, 4.7e4] (E = 214.99 r N/mm^2, from a soft gel's 1e-3 to 1e7 N/mm^2, above "
+           "diamond's 1.2e6)");
+  s.number("youngs_modulus", {}, D.youngs_modulus, within(1e-3, 1e7),
+           "a modulus in [1e-3, 1e7] N/mm^2 (from a soft gel's to above diamond's 1.2e6)");
   s.number("poisson", {}, D.poisson, [](double v) { return v > -1 && v < 0.5; }, "a Poisson ratio in (-1, 0.5)");
-  s.number("density", {}, D.density, positive, "a positive density in t/mm^3 (3.7 g/cm^3 = 3.7e-9)");
-  s.number("thickness", {}, D.thickness, positive, "a positive out-of-plane depth in mm");
-  s.number("internal_stiffness_factor", {}, D.internal_stiffness_factor, positive,
-           "a positive factor (internal joint stiffness = factor * E / brick_height)");
+  s.number("density", {}, D.density, within(1e-12, 1e-7),
+           "a density in [1e-12, 1e-7] t/mm^3 (from an aerogel's 1 kg/m^3 to above osmium's 22.6 g/cm^3; "
+           "3.7 g/cm^3 = 3.7e-9)");
+  s.number("thickness", {}, D.thickness, within(1e-6, 1e6), "an out-of-plane depth in [1e-6, 1e6] mm (1 nm to 1 km)");
+  if (s.find("internal_stiffness_factor", {}) != nullptr && D.method != Dynamics::Method::ue)
+    s.fail("internal_stiffness_factor",
+           "sets the internal joints of method = \"ue\" only (bolted methods have none), and this deck's method is \"" +
+               method + "\"; expected method = \"ue\" or no internal_stiffness_factor");
+  s.number("internal_stiffness_factor", {}, D.internal_stiffness_factor, within(1, 1e4),
+           "a factor in [1, 1e4] (internal joint stiffness = factor * E / brick_height: stiffer than the brick, "
+           "about 50 in the dissertation; beyond 1e4 it only shrinks the stable step)");
 
   // damping: "table" | "none", or explicit alpha_d / beta_d (then no damping key)
   const bool has_alpha = s.find("alpha_d", {}) != nullptr, has_beta = s.find("beta_d", {}) != nullptr;
@@ -113,7 +129,9 @@ void read_dynamics(Section& top, Deck& d) {
   if (has_dt) D.dt_fraction = 0;
 
   s.number("end_time", {}, D.end_time, positive, "a positive end time in s", true);
-  s.number("rate", {}, D.rate, non_negative, "a non-negative opening rate dD/dt in mm/s");
+  s.number("rate", {}, D.rate, within(0, 1e7),
+           "an opening rate dD/dt in [0, 1e7] mm/s (10 km/s, faster than any solid's waves: the opening of a "
+           "quasi-static or impact test is far below)");
   std::string ramp = D.ramp == Dynamics::Ramp::smooth ? "smooth" : "linear";
   s.string("ramp", ramp, {"linear", "smooth"},
            "\"linear\" (rate grows linearly over ramp_time) or \"smooth\" (rate ramps as (1 - cos(pi t / ramp_time)) / 2)");
@@ -121,7 +139,9 @@ void read_dynamics(Section& top, Deck& d) {
   s.number("ramp_time", {}, D.ramp_time, non_negative, "a non-negative time in s");
   s.number("thermal_strain", {}, D.thermal_strain, [](double v) { return std::abs(v) < 0.1; },
            "an eigenstrain with |Theta| < 0.1 (small strain)");
-  s.number("force_top", {}, D.force_top, [](double) { return true; }, "a force per unit length in N/mm");
+  s.number("force_top", {}, D.force_top, within(-1e6, 1e6),
+           "a force per unit length in [-1e6, 1e6] N/mm (a line load that crushes any solid long before: 1e6 N/mm "
+           "over a 1 mm-deep specimen is 1e6 N/mm^2 on a 1 mm face)");
   s.boolean("share_element_matrices", D.share_element_matrices);
   s.number("balance_tolerance", {}, D.balance_tolerance, [](double v) { return v >= 0 && v < 1; },
            "a relative residual in [0, 1) (0: not checked)");
