@@ -315,7 +315,8 @@ class Bench:
     """A `nacre bench` directory.
 
     bench.json               bench.json as a dict (deck, solver, bricks, unit, machine, ...)
-    bench.backends           the backends timed, in bench.json's order (the first is the reference)
+    bench.backends           the backends timed, in bench.json's order (bench.json's reference_backend,
+                             Serial where the build has it, is the one the others are compared with)
     bench.backend(name)      that backend's entry (seconds_per_unit, phases, agreement, ...)
     bench.table()            bench.csv (backend, repeat, phase, seconds, ...) as {column: array}
     """
