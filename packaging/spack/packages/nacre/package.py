@@ -3,7 +3,9 @@
 # Kokkos, whatever its backend. From a checkout (no public download is named here):
 #   spack repo add packaging/spack
 #   spack dev-build -d . nacre@1.0.0 +mpi ^kokkos+openmp      (or +cuda cuda_arch=90 ^kokkos+cuda)
-# Not yet tried under Spack: the dev root and CI build nacre with plain CMake.
+# Spack itself is not run by nacre's CI (it is not installable offline); tests/packaging/
+# check_spack_recipe.py runs this recipe's cmake_args() through a stand-in for Spack's package API
+# and configures nacre with them, for each variant combination.
 from spack.package import *
 
 
@@ -21,13 +23,14 @@ class Nacre(CMakePackage, CudaPackage):
     variant("cholmod", default=True, description="CHOLMOD for the Newton factor")
     variant("tests", default=False, description="Build the Catch2 test suite")
 
+    depends_on("cxx", type="build")
     depends_on("cmake@3.22:", type="build")
     depends_on("kokkos@4.6:")
     depends_on("kokkos-kernels@4.6:", when="+kokkos-kernels")
     depends_on("eigen@3.3:")
     depends_on("hdf5~mpi", when="~mpi")
     depends_on("hdf5", when="+mpi")
-    depends_on("toml-plus-plus@3:")
+    depends_on("tomlplusplus@3:")
     depends_on("cli11@2:")
     depends_on("nlohmann-json@3:")
     depends_on("suite-sparse", when="+cholmod")
@@ -50,7 +53,9 @@ class Nacre(CMakePackage, CudaPackage):
             self.define_from_variant("NACRE_ENABLE_TESTS", "tests"),
             self.define("NACRE_ENABLE_PERF", False),
             self.define("Kokkos_ROOT", spec["kokkos"].prefix),
+            # Kokkos' compiler: its nvcc_wrapper for a CUDA Kokkos, else Spack's C++ compiler
+            self.define("CMAKE_CXX_COMPILER", self["kokkos"].kokkos_cxx),
         ]
-        if spec.satisfies("^kokkos+cuda"):
-            args.append(self.define("CMAKE_CXX_COMPILER", spec["kokkos"].kokkos_cxx))
+        if spec.satisfies("+kokkos-kernels"):
+            args.append(self.define("KokkosKernels_ROOT", spec["kokkos-kernels"].prefix))
         return args
