@@ -5,6 +5,7 @@
 // differing key, strict dump names, stale temporaries, and the colouring rule.
 #include <nacre/core/build_info.hpp>
 #include <nacre/app/restart.hpp>
+#include <nacre/app/run_dynamics.hpp>
 #include <nacre/deck/limits.hpp>
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/io/atomic_file.hpp>
@@ -391,6 +392,57 @@ TEST_CASE("the brick estimate bounds the specimen actually built", "[deck][limit
     CHECK(static_cast<double>(s.size()) <= e.bricks);
     CHECK(e.bricks < 3.0 * static_cast<double>(s.size()));  // and not absurdly loose
   }
+}
+
+namespace {
+// every Kokkos allocation while a callback is set (Kokkos Tools): bytes held now and at most
+std::int64_t g_held = 0, g_peak = 0;
+void on_allocate(const Kokkos_Profiling_SpaceHandle, const char*, const void*, const std::uint64_t n) {
+  g_held += static_cast<std::int64_t>(n);
+  g_peak = std::max(g_peak, g_held);
+}
+void on_deallocate(const Kokkos_Profiling_SpaceHandle, const char*, const void*, const std::uint64_t n) {
+  g_held -= static_cast<std::int64_t>(n);
+}
+}  // namespace
+
+TEST_CASE("the memory estimate of a dynamic deck bounds what its simulation allocates (Kokkos Tools)",
+          "[deck][limits][dyn]") {
+  // The [limits] check refuses a deck from its estimate before anything is built; the estimate
+  // must bound what the run then allocates, every element's own matrices included
+  // (share_element_matrices = false), or a deck passes the check and fails at allocation.
+  std::ifstream in(NACRE_SOURCE_DIR "/inputs/dynamic_bie.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const char* method : {"be", "bie", "ue"})
+    for (const bool share : {true, false}) {
+      CAPTURE(method, share);
+      std::string t = text.str();
+      t.replace(t.find("method = \"bie\""), 14, std::string("method = \"") + method + "\"");
+      if (std::string(method) != "bie") {  // the BIE keys (one per line) go with it
+        for (const char* k : {"bie_solve", "bie_block", "bie_iterations", "bie_scheme"})
+          if (const auto at = t.find(std::string("\n") + k); at != std::string::npos)
+            t.erase(at + 1, t.find('\n', at + 1) - at);
+      }
+      t.replace(t.find("[dynamics]"), 10, std::string("[dynamics]\nshare_element_matrices = ") + (share ? "true" : "false"));
+      const deck::Deck d = deck::parse_deck_string(t, "dynamic_bie.toml");
+      auto s = geometry::build_specimen(d.geometry);
+      const auto f = geometry::find_interfaces(s, d.geometry);
+      const dyn::Params p = app::dynamics_params(d, s.size());
+      g_held = g_peak = 0;
+      Kokkos::Tools::Experimental::set_allocate_data_callback(on_allocate);
+      Kokkos::Tools::Experimental::set_deallocate_data_callback(on_deallocate);
+      {
+        dyn::Simulation sim(p, s, f, d.mortar);
+        (void)sim.advance(1);
+      }
+      Kokkos::Tools::Experimental::set_allocate_data_callback(nullptr);
+      Kokkos::Tools::Experimental::set_deallocate_data_callback(nullptr);
+      const double estimate = deck::estimate(d).bytes;
+      INFO("peak of Kokkos allocations " << g_peak << " bytes for " << s.size() << " bricks; estimate " << estimate);
+      CHECK(g_peak > 0);
+      CHECK(static_cast<double>(g_peak) <= estimate);
+    }
 }
 
 TEST_CASE("colouring = auto is a fixed rule, fastest times the candidates and keeps its pick", "[mc][colouring]") {

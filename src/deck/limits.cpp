@@ -127,8 +127,19 @@ Estimate estimate(const Deck& d) {
   const auto& L = d.load;
   const double smallest = L.adaptive ? std::min(L.min_step, L.initial_step) : L.initial_step;
   e.load_steps = L.path_length() / smallest;  // the whole path (a programme unloads and reloads)
-  e.bytes = e.bricks * bytes_per_brick;
+  e.bytes = e.bricks * (bytes_per_brick + (d.dynamics.enabled && !d.dynamics.share_element_matrices
+                                                ? unshared_bytes_per_brick(d.dynamics)
+                                                : 0.0));
   return e;
+}
+
+double unshared_bytes_per_brick(const Dynamics& D) {
+  switch (D.method) {
+    case Dynamics::Method::bie: return 12288;
+    case Dynamics::Method::ue: return 8192;
+    case Dynamics::Method::be: break;
+  }
+  return 4096;
 }
 
 void check_time_steps(const Deck& d, double dt, const std::string& key) {

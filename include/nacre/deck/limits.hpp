@@ -20,6 +20,13 @@ struct Estimate {
 /// the output copies), measured and rounded up (docs/decks.md).
 inline constexpr double bytes_per_brick = 4096;
 
+/// \brief What a dynamic run with share_element_matrices = false adds per brick: every element
+/// its own type, so its matrices (K and (M + h/2 C)^-1; for BIE also J^-1 and its velocity rows)
+/// are stored per element on the device and built through host copies. Measured on the 2,100-brick
+/// dynamic_bie deck (device bytes per type: be 1,899, bie 5,093, ue 814 with 4 elements per brick),
+/// doubled for the host copies at build time and rounded up.
+[[nodiscard]] double unshared_bytes_per_brick(const Dynamics& D);
+
 [[nodiscard]] Estimate estimate(const Deck& d);
 
 /// \brief The [limits] memory bound in bytes (max_memory_gib, or 80 % of physical memory).
