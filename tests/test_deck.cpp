@@ -200,6 +200,19 @@ TEST_CASE("convergence keys: defaults, choices and ranges with file:line", "[dec
   CHECK(d.solver.burst_cycles == 200);
   CHECK_THAT(error_of(base + "[solver]\ncg_iterations = 0\n"), StartsWith("deck.toml:16: solver.cg_iterations:"));
   CHECK_THAT(error_of(base + "[solver]\nburst_cycles = -1\n"), StartsWith("deck.toml:16: solver.burst_cycles:"));
+  // a key of a method the deck does not use is an error, not ignored (one rule for both families)
+  CHECK_THAT(error_of(base + "[solver]\nburst_cycles = 100\n"),
+             StartsWith("deck.toml:16: solver.burst_cycles: sets the Monte Carlo bursts of relaxation = \"auto\" only"));
+  CHECK(error_of(base + "[solver]\nrelaxation = \"auto\"\nburst_cycles = 100\n").empty());
+  CHECK_THAT(error_of(base + "[solver]\npresim_cycles = 5\n"),
+             StartsWith("deck.toml:16: solver.presim_cycles: times the candidates of colouring = \"fastest\" only"));
+  CHECK(error_of(base + "[solver]\ncolouring = \"fastest\"\npresim_cycles = 5\n").empty());
+  for (const char* k : {"cg_iterations = 50", "newton_preconditioner = \"block-jacobi\"", "factor_precision = \"double\""}) {
+    INFO(k);
+    CHECK_THAT(error_of(base + "[solver]\n" + k + "\n"), ContainsSubstring("sets the Newton method, which this deck does not use"));
+    CHECK(error_of(base + "[solver]\nrelaxation = \"newton\"\n" + k + "\n").empty());
+    CHECK(error_of(base + "[solver]\npolish = \"trust-region\"\n" + k + "\n").empty());
+  }
   std::string cyclic = base;  // a programme that turns back: damage "auto" is irreversible
   const std::string fin = "final_displacement = 0.05";
   cyclic.replace(cyclic.find(fin), fin.size(), "programme = [0.02, 0.01, 0.05]");

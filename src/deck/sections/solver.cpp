@@ -60,6 +60,19 @@ void read_solver(Section& top, Deck& d) {
            "relaxation = \"gradient\" minimises with the polish method; expected polish = \"fire\", "
            "\"newton\" or \"trust-region\", not \"" +
                S.polish + "\"");
+  // keys of one method given where the deck's method never reads them: refused, not ignored
+  if (S.colouring != "fastest" && s.find("presim_cycles", {}) != nullptr)
+    s.fail("presim_cycles", "times the candidates of colouring = \"fastest\" only, and this deck's colouring is \"" +
+                                S.colouring + "\"; expected colouring = \"fastest\" or no presim_cycles");
+  if (S.relaxation != "auto" && s.find("burst_cycles", {}) != nullptr)
+    s.fail("burst_cycles", "sets the Monte Carlo bursts of relaxation = \"auto\" only, and this deck's relaxation is \"" +
+                               S.relaxation + "\"; expected relaxation = \"auto\" or no burst_cycles");
+  const bool newton = S.relaxation == "newton" || S.relaxation == "auto" || S.polish == "newton" || S.polish == "trust-region";
+  for (const char* k : {"cg_iterations", "newton_preconditioner", "factor_precision"})
+    if (!newton && s.find(k, {}) != nullptr)
+      s.fail(k, std::string("sets the Newton method, which this deck does not use (relaxation = \"") + S.relaxation +
+                    "\", polish = \"" + S.polish + "\"); expected relaxation = \"newton\" or \"auto\", or polish = "
+                    "\"newton\" or \"trust-region\", or no " + k);
   // the trust region needs the Hessian of the reversible law (mc/hessian.hpp); "auto" falls back
   // to Monte Carlo with the polish there (docs/decks.md)
   if (d.mortar.damage == cohesive::Damage::irreversible && (S.relaxation == "newton" || S.polish == "trust-region"))
