@@ -21,7 +21,9 @@
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
 
-#include "kernel_timer.hpp"
+#include <nacre/perf/bounds.hpp>
+#include <nacre/perf/tool_timer.hpp>
+
 #include "specimen_size.hpp"
 
 #include <CLI/CLI.hpp>
@@ -44,11 +46,7 @@ double seconds_since(clock_type::time_point t0) {
   return std::chrono::duration<double>(clock_type::now() - t0).count();
 }
 /// CPU time of the process (all threads), s.
-double process_cpu() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+double process_cpu() { return perf::process_cpu_seconds(); }
 
 /// Specimen of ~`bricks` bricks of 0.105 x 0.03 mm (MODEL.md §5: L ~ 30 µm), notched, in bending.
 deck::Deck deck_for(long bricks, double ratio) {
@@ -71,32 +69,6 @@ dyn::Params params_for(const deck::Deck& d, dyn::Method m) {
   p.final_displacement = d.load.final_displacement;
   p.tension = d.load.tension, p.bending = d.load.bending;
   return p;
-}
-
-/// Best-of-`reps` STREAM triad bandwidth (bytes/s, 3 arrays of n doubles counted) on `space`,
-/// by wall time and by process CPU time / threads (cpu_bw).
-double triad_bandwidth(const Kokkos::DefaultExecutionSpace& space, std::size_t n, int reps, double& cpu_bw) {
-  using V = Kokkos::View<double*, Kokkos::DefaultExecutionSpace::memory_space>;
-  V a(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_a"), n);
-  V b(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_b"), n);
-  V c(Kokkos::view_alloc(space, Kokkos::WithoutInitializing, "nacre::perf::triad_c"), n);
-  const auto range = Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(space, 0, n);
-  Kokkos::parallel_for("nacre::perf::triad_init", range, KOKKOS_LAMBDA(std::size_t i) {
-    a(i) = 0, b(i) = 1.0 + 1e-9 * static_cast<double>(i), c(i) = 2.0;
-  });
-  space.fence();
-  double best = 1e300, best_cpu = 1e300;
-  const double s = 0.5;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = clock_type::now();
-    const double c0 = process_cpu();
-    Kokkos::parallel_for("nacre::perf::triad", range, KOKKOS_LAMBDA(std::size_t i) { a(i) = b(i) + s * c(i); });
-    space.fence();
-    best = std::min(best, seconds_since(t0));
-    best_cpu = std::min(best_cpu, (process_cpu() - c0) / space.concurrency());
-  }
-  cpu_bw = 3.0 * 8.0 * static_cast<double>(n) / best_cpu;
-  return 3.0 * 8.0 * static_cast<double>(n) / best;
 }
 
 dyn::Method method_of(const std::string& name) {
@@ -176,8 +148,8 @@ int main(int argc, char* argv[]) {
 
   const Kokkos::DefaultExecutionSpace space;
   const int threads = space.concurrency();
-  double triad_cpu = 0;
-  const double triad = triad_bandwidth(space, triad_n, 10, triad_cpu);
+  const perf::Triad measured = perf::triad(space, triad_n, 10);
+  const double triad = measured.bytes_per_s, triad_cpu = measured.cpu_bytes_per_s;
   std::cout << "[dyn_step] " << threads << " threads: triad " << triad / 1e9 << " GB/s wall, " << triad_cpu / 1e9
             << " GB/s CPU time (" << triad_n << " doubles per array)\n";
   const bool header = !std::ifstream(csv).good();
@@ -272,13 +244,18 @@ int main(int argc, char* argv[]) {
         const bool ph = !std::ifstream(profile_csv).good();
         std::ofstream pout(profile_csv, std::ios::app);
         if (ph) pout << "method,bricks,threads,kernel,ms_per_step,cpu_ms_per_step,calls_per_step,share_of_step\n";
-        perf::KernelTimer::start();
-        space.fence();
-        const auto t0 = clock_type::now();
-        const bool ok = sim.advance(space, steps);
-        space.fence();
-        const double total = seconds_since(t0);
-        const auto table = perf::KernelTimer::stop();
+        perf::ToolClock::Table table;
+        double total = 0;
+        bool ok = false;
+        {
+          const perf::ToolTimer timer(perf::ToolTimer::kernels);
+          space.fence();
+          const auto t0 = clock_type::now();
+          ok = sim.advance(space, steps);
+          space.fence();
+          total = seconds_since(t0);
+          table = timer.clock().kernels();
+        }
         if (!ok) return 1;
         double covered = 0;
         for (const auto& [name, e] : table) {

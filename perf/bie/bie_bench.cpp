@@ -9,6 +9,7 @@
 #include <nacre/dyn/model.hpp>
 #include <nacre/dyn/simulation.hpp>
 #include <nacre/geometry/specimen.hpp>
+#include <nacre/perf/bounds.hpp>
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -140,21 +141,8 @@ void critical(long bricks, const std::string& ratios, long steps, double rtol, s
 void timing(const std::string& sizes, double ratio, long steps, std::ostream& out) {
   out << "label,method,bricks,threads,s_per_step,solve_s_per_apply,solve_gflops,bytes,triad_gbs\n";
   const int threads = Exec().concurrency();
-  // Kokkos triad a = b + s c over 2^24 doubles, best of 5 (the machine's streaming rate now)
-  double triad = 0;
-  {
-    const int n = 1 << 24;
-    Kokkos::View<double*> a("a", n), b("b", n), c("c", n);
-    Kokkos::deep_copy(b, 1.0), Kokkos::deep_copy(c, 2.0);
-    double best = 1e30;
-    for (int k = 0; k < 5; ++k) {
-      const auto t0 = Clock::now();
-      Kokkos::parallel_for("nacre::perf::triad", n, KOKKOS_LAMBDA(const int i) { a(i) = b(i) + 0.5 * c(i); });
-      Kokkos::fence();
-      best = std::min(best, seconds(t0));
-    }
-    triad = 3.0 * 8 * n / best / 1e9;
-  }
+  // the triad a = b + s c over 2^24 doubles, best of 5 (the machine's streaming rate now; perf/bounds.hpp)
+  const double triad = perf::triad(Exec(), std::size_t(1) << 24, 5).bytes_per_s / 1e9;
   for (double nbk : parse_list(sizes)) {
     const auto st = specimen(static_cast<long>(nbk));
     const double hbe = estimate(params(dyn::Method::be, ratio), st);

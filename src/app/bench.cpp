@@ -25,6 +25,8 @@
 #include <nacre/geometry/specimen.hpp>
 #include <nacre/io/atomic_file.hpp>
 #include <nacre/io/state_compare.hpp>
+#include <nacre/perf/bounds.hpp>
+#include <nacre/perf/tool_timer.hpp>
 #include <nacre/mc/solver.hpp>
 
 #include <CLI/CLI.hpp>
@@ -56,96 +58,27 @@ namespace {
 
 using clock_type = std::chrono::steady_clock;
 
-// ---- phase times from Kokkos' region callbacks (inclusive per region name)
-struct RegionClock {
-  std::vector<std::pair<std::string, clock_type::time_point>> stack;
-  std::map<std::string, double> seconds;
-};
-RegionClock* g_regions = nullptr;
-void push_region(const char* name) {
-  if (g_regions) g_regions->stack.emplace_back(name, clock_type::now());
+/// Seconds per profiling region of what a timer saw (inclusive per region name).
+std::map<std::string, double> region_seconds(const perf::ToolTimer& t) {
+  std::map<std::string, double> out;
+  for (const auto& [name, e] : t.clock().regions()) out[name] = e.seconds;
+  return out;
 }
-void pop_region() {
-  if (!g_regions || g_regions->stack.empty()) return;
-  const auto& [name, t0] = g_regions->stack.back();
-  g_regions->seconds[name] += std::chrono::duration<double>(clock_type::now() - t0).count();
-  g_regions->stack.pop_back();
-}
-/// Times the regions entered while it lives.
-class RegionTimer {
-public:
-  RegionTimer() {
-    g_regions = &clock_;
-    Kokkos::Tools::Experimental::set_push_region_callback(push_region);
-    Kokkos::Tools::Experimental::set_pop_region_callback(pop_region);
-  }
-  ~RegionTimer() {
-    Kokkos::Tools::Experimental::set_push_region_callback(nullptr);
-    Kokkos::Tools::Experimental::set_pop_region_callback(nullptr);
-    g_regions = nullptr;
-  }
-  RegionTimer(const RegionTimer&) = delete;
-  RegionTimer& operator=(const RegionTimer&) = delete;
-  [[nodiscard]] const std::map<std::string, double>& seconds() const { return clock_.seconds; }
 
-private:
-  RegionClock clock_;
+/// The backend's bounds (perf/bounds.hpp): triad over 3 x 64 MiB, beyond the caches of the
+/// machines nacre meets, best of 5; FMA chains, best of 3.
+struct Bounds {
+  double triad_gbs = 0;   ///< a = b + s c, GB/s
+  double fma_gflops = 0;  ///< independent FMA chains per work item, GFLOP/s
 };
+template <class ExecutionSpace>
+Bounds measure_bounds(const ExecutionSpace& space) {
+  return {perf::triad(space, std::size_t(1) << 23, 5).bytes_per_s / 1e9, perf::fma_flops(space, 3) / 1e9};
+}
 
 }  // namespace
 
-// (a named namespace: the device lambdas' enclosing functions need external linkage under nvcc)
-namespace bench_detail {
-struct Bounds {
-  double triad_gbs = 0;   ///< a = b + s c, best of 5, GB/s
-  double fma_gflops = 0;  ///< independent FMA chains per work item, best of 3, GFLOP/s
-};
-
-template <class ExecutionSpace>
-Bounds measure_bounds(const ExecutionSpace& space) {
-  using Mem = typename ExecutionSpace::memory_space;
-  Bounds b;
-  const int n = 1 << 23;  // 3 x 64 MiB: beyond the caches of the machines nacre meets
-  Kokkos::View<double*, Mem> x(Kokkos::view_alloc(space, "nacre::bench::x"), n),
-      y(Kokkos::view_alloc(space, "nacre::bench::y"), n), z(Kokkos::view_alloc(space, "nacre::bench::z"), n);
-  Kokkos::deep_copy(space, y, 1.0), Kokkos::deep_copy(space, z, 2.0);
-  for (int r = 0; r < 5; ++r) {
-    space.fence();
-    const auto t0 = clock_type::now();
-    Kokkos::parallel_for(
-        "nacre::bench::triad", Kokkos::RangePolicy<ExecutionSpace>(space, 0, n),
-        KOKKOS_LAMBDA(const int i) { x(i) = y(i) + 3.0 * z(i); });
-    space.fence();
-    const double t = std::chrono::duration<double>(clock_type::now() - t0).count();
-    b.triad_gbs = std::max(b.triad_gbs, 3.0 * 8.0 * n / t / 1e9);
-  }
-  const int items = std::max(1, space.concurrency()) * 4096, iters = 4096;
-  for (int r = 0; r < 3; ++r) {
-    double sink = 0;
-    space.fence();
-    const auto t0 = clock_type::now();
-    Kokkos::parallel_reduce(
-        "nacre::bench::fma", Kokkos::RangePolicy<ExecutionSpace>(space, 0, items),
-        KOKKOS_LAMBDA(const int i, double& s) {
-          double a[8];
-          for (int k = 0; k < 8; ++k) a[k] = 1e-3 * (i + k);
-          for (int it = 0; it < iters; ++it)
-            for (int k = 0; k < 8; ++k) a[k] = a[k] * 0.999999 + 1e-7;
-          for (int k = 0; k < 8; ++k) s += a[k];
-        },
-        sink);
-    space.fence();
-    const double t = std::chrono::duration<double>(clock_type::now() - t0).count();
-    if (sink != 0) b.fma_gflops = std::max(b.fma_gflops, 2.0 * 8.0 * double(items) * iters / t / 1e9);
-  }
-  return b;
-}
-
-}  // namespace bench_detail
-
 namespace {
-using bench_detail::Bounds;
-using bench_detail::measure_bounds;
 
 std::string machine_cpu() {
   std::ifstream in("/proc/cpuinfo");
@@ -203,12 +136,12 @@ Sample run_dynamics_on(const Backend& b, const deck::Deck& d, const geometry::Sp
   r.bytes_per_unit = static_cast<double>(sim.step_bytes());
   r.flops_per_unit = sim.step_flops();
   {
-    RegionTimer timer;
+    const perf::ToolTimer timer(perf::ToolTimer::regions);
     const auto t0 = clock_type::now();
     if (!sim.advance(steps)) throw std::runtime_error("the run stopped: " + sim.why());
     b.fence();
     r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
-    r.phase = timer.seconds();
+    r.phase = region_seconds(timer);
   }
   for (auto& [name, x] : sim.save_state()) r.state.push_back({name, std::move(x)});
   return r;
@@ -222,7 +155,7 @@ Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen
   Sample r;
   r.backend = b.name();
   {
-    RegionTimer timer;
+    const perf::ToolTimer timer(perf::ToolTimer::regions);
     const auto t0 = clock_type::now();
     if (load_steps > 0) {
       long done = 0;
@@ -238,7 +171,7 @@ Sample run_mc_on(const Backend& b, const deck::Deck& d, const geometry::Specimen
     }
     b.fence();
     r.seconds = std::chrono::duration<double>(clock_type::now() - t0).count();
-    r.phase = timer.seconds();
+    r.phase = region_seconds(timer);
   }
   const double trials = static_cast<double>(solver.sizes().free_bricks) * static_cast<double>(solver.global_cycle());
   r.work = trials;
