@@ -15,7 +15,7 @@
 // process (all its threads: the per-core rate, insensitive to time the machine's other users
 // take); kind = rng: random doubles per second.
 #include <nacre/aes/aes128.hpp>
-#include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/aes_sources.hpp>
 #include <nacre/rng/registry.hpp>
 
 #include <Random123/philox.h>

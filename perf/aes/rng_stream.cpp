@@ -11,7 +11,7 @@
 //   philox:  Philox4x32-10, key = seed, counter (s, 2d+h) (nacre::rng::PhiloxSource's mapping)
 //   mt:      the raw Mersenne Twister words mt-aes whitens (S <= 1024: 1024 interleaved MTs)
 // --bytes=0 (default) streams until the reader closes the pipe.
-#include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/aes_sources.hpp>
 #include <nacre/rng/philox.hpp>
 
 #include <csignal>

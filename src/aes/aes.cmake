@@ -20,7 +20,7 @@ if(NACRE_AES_NATIVE AND TARGET nacre_lib)
   check_cxx_compiler_flag(-march=native NACRE_CXX_HAS_MARCH_NATIVE)
   if(NACRE_CXX_HAS_MARCH_NATIVE)
     set_source_files_properties(
-      ${PROJECT_SOURCE_DIR}/src/aes/aes128.cpp ${PROJECT_SOURCE_DIR}/src/aes/aes_sources.cpp
+      ${PROJECT_SOURCE_DIR}/src/aes/aes128.cpp ${PROJECT_SOURCE_DIR}/src/rng/aes_sources.cpp
       TARGET_DIRECTORY nacre_lib
       PROPERTIES COMPILE_OPTIONS "-march=native")
     message(STATUS "nacre: AES sources built with -march=native (NACRE_AES_NATIVE=ON)")

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The generator table of rng/registry.hpp: the one place that knows every generator family.
-#include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/aes_sources.hpp>
 #include <nacre/rng/registry.hpp>
 
 #include <stdexcept>

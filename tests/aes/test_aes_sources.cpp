@@ -2,7 +2,7 @@
 // The AES random-number sources (aes-ctr, mt-aes): definition, determinism, independence of
 // streams and of the batch, thread-count independence, and a statistical smoke test.
 #include <nacre/aes/aes128.hpp>
-#include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/aes_sources.hpp>
 #include <nacre/rng/registry.hpp>
 
 #include <catch2/catch_test_macros.hpp>

@@ -24,7 +24,6 @@ LAYERS = ["core", "aes", "rng", "geometry", "cohesive", "kinematics", "loading",
           "mc", "io", "perf", "deck", "app"]
 FORBIDDEN = {("io", "mc"), ("io", "dyn")}  # io depends on no solver
 KNOWN = {
-    ("aes", "rng"): "aes/aes_sources.hpp fills rng/uniform_source.hpp's generator interface (which rng uses)",
     ("core", "par"): "core/build_info.cpp asks par which MPI library the build has",
     ("geometry", "deck"): "geometry::build_specimen takes deck::Geometry (WallSpec still in deck)",
     ("fracture", "deck"): "fracture::CrackTracker reads deck::Geometry",

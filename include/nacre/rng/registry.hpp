@@ -2,7 +2,7 @@
 #pragma once
 /// \file
 /// \brief The random generators a deck can name ([random] generator), in one table: Philox
-/// (rng/philox.hpp) and the AES family (aes/aes_sources.hpp). Why a registry apart from
+/// (rng/philox.hpp) and the AES family (rng/aes_sources.hpp). Why a registry apart from
 /// rng/uniform_source.hpp: the interface knows no generator family, so rng does not depend on aes
 /// (aes implements rng's interface, the registry depends on both, the deck and the solver on the
 /// registry).

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <nacre/aes/aes_sources.hpp>
+#include <nacre/rng/aes_sources.hpp>
 #include <nacre/rng/on_batch.hpp>
 
 #include <stdexcept>
