@@ -265,16 +265,30 @@ TEST_CASE("a dynamic checkpoint without an array the state now holds is refused 
   }
 }
 
+namespace {
+/// A dynamic checkpoint of tiny_dynamic.toml at step 100 and start step `dt`, its state arrays
+/// placeholders but for the clock (step and dt as the books say), and a scratch path for it.
+struct DynCheckpointCase {
+  deck::Deck d = deck::parse_deck_file(NACRE_SOURCE_DIR "/tests/app/tiny_dynamic.toml");
+  app::DynCheckpoint c;
+  std::filesystem::path path;
+  DynCheckpointCase(double dt, const std::string& name)
+      : path(std::filesystem::temp_directory_path() / ("nacre_" + name + "_" + std::to_string(::getpid()) + ".h5")) {
+    c.method = "be", c.step = 100, c.time = 1e-6, c.dt = dt, c.end_time = d.dynamics.end_time;
+    for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
+    c.state["clock"] = {100.0, dt};
+  }
+};
+}  // namespace
+
 TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state value is refused by name",
           "[io][checkpoint][dyn]") {
   // A checkpoint is written only from checked, finite states; one holding a NaN (a bug, or an
   // edit that recomputed the checksum) must not seed a run.
-  const deck::Deck d = deck::parse_deck_file(NACRE_SOURCE_DIR "/tests/app/tiny_dynamic.toml");
-  app::DynCheckpoint c;
-  c.method = "be", c.step = 100, c.time = 1e-6, c.dt = 1e-8, c.end_time = d.dynamics.end_time;
-  for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
-  c.state["clock"] = {100.0, 1e-8};  // step and start dt, as the checkpoint's books say
-  const auto path = std::filesystem::temp_directory_path() / ("nacre_nan_cp_" + std::to_string(::getpid()) + ".h5");
+  DynCheckpointCase k(1e-8, "nan_cp");
+  const auto& d = k.d;
+  auto& c = k.c;
+  const auto& path = k.path;
   io::write_checkpoint(path, app::to_named(c, d));
   CHECK_NOTHROW(app::read_dyn_checkpoint(path, d));
   c.state.begin()->second[1] = std::numeric_limits<double>::quiet_NaN();
@@ -292,11 +306,10 @@ TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state val
 TEST_CASE("a dynamic checkpoint whose state clock disagrees with its books is refused with both values",
           "[io][checkpoint][dyn]") {
   // (exit 2 before anything is built: it used to be exit 1 from the simulation, "dt = 0.000000 s")
-  const deck::Deck d = deck::parse_deck_file(NACRE_SOURCE_DIR "/tests/app/tiny_dynamic.toml");
-  app::DynCheckpoint c;
-  c.method = "be", c.step = 100, c.time = 1e-6, c.dt = 1.25e-8, c.end_time = d.dynamics.end_time;
-  for (const auto& n : dyn::Simulation::state_array_names()) c.state[n] = {0.0, 1.0};
-  const auto path = std::filesystem::temp_directory_path() / ("nacre_clock_cp_" + std::to_string(::getpid()) + ".h5");
+  DynCheckpointCase k(1.25e-8, "clock_cp");
+  const auto& d = k.d;
+  auto& c = k.c;
+  const auto& path = k.path;
   const auto refused = [&](const std::vector<double>& clock) -> std::string {
     c.state["clock"] = clock;
     io::write_checkpoint(path, app::to_named(c, d));  // a valid checksum over the edit
