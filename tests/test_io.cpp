@@ -286,9 +286,7 @@ TEST_CASE("a dynamic checkpoint with a valid checksum but a non-finite state val
   // A checkpoint is written only from checked, finite states; one holding a NaN (a bug, or an
   // edit that recomputed the checksum) must not seed a run.
   DynCheckpointCase k(1e-8, "nan_cp");
-  const auto& d = k.d;
-  auto& c = k.c;
-  const auto& path = k.path;
+  auto& [d, c, path] = k;
   io::write_checkpoint(path, app::to_named(c, d));
   CHECK_NOTHROW(app::read_dyn_checkpoint(path, d));
   c.state.begin()->second[1] = std::numeric_limits<double>::quiet_NaN();
@@ -307,9 +305,7 @@ TEST_CASE("a dynamic checkpoint whose state clock disagrees with its books is re
           "[io][checkpoint][dyn]") {
   // (exit 2 before anything is built: it used to be exit 1 from the simulation, "dt = 0.000000 s")
   DynCheckpointCase k(1.25e-8, "clock_cp");
-  const auto& d = k.d;
-  auto& c = k.c;
-  const auto& path = k.path;
+  auto& [d, c, path] = k;
   const auto refused = [&](const std::vector<double>& clock) -> std::string {
     c.state["clock"] = clock;
     io::write_checkpoint(path, app::to_named(c, d));  // a valid checksum over the edit

@@ -3,8 +3,8 @@
 // combination of the values, each in OUT/<leaf>=<value>[_<leaf>=<value>...]/ from a deck written
 // beside it (the deck with the keys set, OUT/<name>.toml), as a child nacre process (a crash or a
 // bad value stops that run, not the sweep); with -j N, N children at once, each bound to a slice
-// of the CPUs (an unbound child would share CPU 0 with the others under OMP_PROC_BIND). Resumable: a finished run is kept, an interrupted one restarted
-// from its checkpoint. Then sweep.json (the runs and their outcomes) and the combined table and
+// of the CPUs (an unbound child would share CPU 0 with the others under OMP_PROC_BIND).
+// Resumable: a finished run is kept, an interrupted one restarted from its checkpoint. Then sweep.json (the runs and their outcomes) and the combined table and
 // sweep.csv (one row per run, computed here), and the overlay charts (python -m nacre.charts.sweep:
 // sweep.png; docs/fracture.md "Sweeps").
 #include "driver.hpp"
@@ -433,8 +433,8 @@ int sweep_main(int argc, char* argv[]) {
     todo.push_back({i, cmd});
   }
   if (list_only) return 0;
-  // --jobs N: N runs at once, each on CPUs of its own (a slice of this process's CPUs, its threads
-  // as many unless --kokkos-num-threads was given): runs that shared CPUs would wait for each other
+  // --jobs N: N runs at once, each on CPUs of its own (a slice of the node's CPUs, its threads as
+  // many unless --kokkos-num-threads was given): runs that shared CPUs would wait for each other
   const std::vector<std::vector<int>> slots = cpu_slots(jobs);
   const bool threads_given = std::any_of(pass.begin(), pass.end(), [](const std::string& a) {
     return a.starts_with("--kokkos-num-threads") || a.starts_with("--kokkos-threads");
@@ -443,12 +443,14 @@ int sweep_main(int argc, char* argv[]) {
   // Ctrl-C reaches the runs in progress too (they checkpoint and exit 130); a SIGTERM sent to the
   // sweep alone lets the runs in progress finish; either way no further run starts
   SignalGuard signals;
-  std::vector<std::pair<int, std::size_t>> active;  // (pid, slot) per run in progress, by todo index
-  std::vector<std::size_t> active_job;
-  std::vector<bool> slot_busy(slots.size(), false);
+  struct Running {
+    int pid;
+    std::size_t slot, job;  // slots[slot] holds its CPUs, todo[job] its run
+  };
+  std::vector<Running> running;
   int stop_rc = 0;
   std::string stopped_in;
-  std::size_t next = 0;
+  const auto stopping = [&] { return stop_rc != 0 || pending_signal() != 0; };
   const auto finish = [&](std::size_t j, int rc) {
     const std::size_t i = todo[j].run;
     exits[i] = rc;
@@ -460,12 +462,14 @@ int sweep_main(int argc, char* argv[]) {
       std::cout << "nacre: sweep " << runs[i].name << ": " << hows[i] << (rc ? ", exit " + std::to_string(rc) : std::string())
                 << "\n" << std::flush;
   };
-  while ((next < todo.size() && stop_rc == 0 && pending_signal() == 0) || !active.empty()) {
-    while (next < todo.size() && active.size() < slots.size() && stop_rc == 0 && pending_signal() == 0) {
-      const std::size_t slot = static_cast<std::size_t>(std::find(slot_busy.begin(), slot_busy.end(), false) - slot_busy.begin());
+  for (std::size_t next = 0; (next < todo.size() && !stopping()) || !running.empty();) {
+    while (next < todo.size() && running.size() < slots.size() && !stopping()) {
+      std::size_t slot = 0;  // the first slot no run holds
+      while (std::any_of(running.begin(), running.end(), [&](const Running& r) { return r.slot == slot; })) ++slot;
       std::vector<std::string> cmd = todo[next].cmd;
       const std::vector<int>& cpus = slots[slot];
-      if (jobs > 1 && !threads_given) cmd.push_back("--kokkos-num-threads=" + std::to_string(std::max<std::size_t>(1, cpus.size())));
+      if (jobs > 1 && !threads_given)
+        cmd.push_back("--kokkos-num-threads=" + std::to_string(std::max<std::size_t>(1, cpus.size())));
       const std::size_t i = todo[next].run;
       if (!quiet) {
         std::cout << "nacre: sweep run " << i + 1 << "/" << runs.size() << ": " << runs[i].name;
@@ -473,15 +477,13 @@ int sweep_main(int argc, char* argv[]) {
         std::cout << "\n" << std::flush;
       }
       const int pid = spawn_start(cmd, {}, cpus);
-      if (pid == kNotStarted) {
-        finish(next++, 127);
-        continue;
-      }
-      slot_busy[slot] = true;
-      active.emplace_back(pid, slot);
-      active_job.push_back(next++);
+      if (pid == kNotStarted)
+        finish(next, kNotStarted);
+      else
+        running.push_back({pid, slot, next});
+      ++next;
     }
-    if (active.empty()) break;
+    if (running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
     if (pid < 0) {
@@ -489,16 +491,12 @@ int sweep_main(int argc, char* argv[]) {
       std::cerr << "nacre: error: waiting for the sweep's runs: " << std::strerror(errno) << "\n";
       return 1;
     }
-    for (std::size_t a = 0; a < active.size(); ++a)
-      if (active[a].first == pid) {
-        slot_busy[active[a].second] = false;
-        finish(active_job[a], exit_code(status));
-        active.erase(active.begin() + static_cast<std::ptrdiff_t>(a));
-        active_job.erase(active_job.begin() + static_cast<std::ptrdiff_t>(a));
-        break;
-      }
+    const auto r = std::find_if(running.begin(), running.end(), [&](const Running& x) { return x.pid == pid; });
+    if (r == running.end()) continue;
+    finish(r->job, exit_code(status));
+    running.erase(r);
   }
-  if (stop_rc != 0 || pending_signal() != 0) {
+  if (stopping()) {
     std::cerr << "nacre: sweep stopped by a signal" << (stopped_in.empty() ? "" : " during " + stopped_in)
               << "; run the same command again to resume\n";
     return stop_rc ? stop_rc : 128 + pending_signal();

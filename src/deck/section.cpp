@@ -124,6 +124,12 @@ std::string Section::fmt(double v) {
   return os.str();
 }
 
+void reject_if_given(Section& s, std::string_view key, const std::string& what, const std::string& setting,
+                     const std::string& fix) {
+  if (s.find(key, {}) != nullptr)
+    s.fail(key, what + ", and this deck's " + setting + "; expected " + fix + " or no " + std::string(key));
+}
+
 void read_law(Section& s, cohesive::Law& law) {
   s.number("k", {}, law.k, positive, "a positive stiffness per unit length^3");
   s.number("x1", {}, law.x1, positive, "a positive length (end of the elastic range)");

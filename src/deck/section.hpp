@@ -80,6 +80,15 @@ private:
 
 inline const auto positive = [](double v) { return v > 0; };
 inline const auto non_negative = [](double v) { return v >= 0; };
+/// \brief A closed range [lo, hi] as a predicate for Section::number.
+inline auto within(double lo, double hi) {
+  return [lo, hi](double v) { return v >= lo && v <= hi; };
+}
+
+/// \brief A key of a method or variant other than the deck's, refused rather than ignored: fail at
+/// `key` when the deck gives it, "KEY: WHAT, and this deck's SETTING; expected FIX or no KEY".
+void reject_if_given(Section& s, std::string_view key, const std::string& what, const std::string& setting,
+                     const std::string& fix);
 
 /// \brief k, x1, x2 of a cohesive law (any absent key keeps its value in `law`).
 void read_law(Section& s, cohesive::Law& law);

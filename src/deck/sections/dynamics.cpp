@@ -45,9 +45,7 @@ void read_dynamics(Section& top, Deck& d) {
   D.method = method == "ue" ? Dynamics::Method::ue : (method == "bie" ? Dynamics::Method::bie : Dynamics::Method::be);
   if (D.method != Dynamics::Method::bie)  // keys of BIE alone would be ignored silently
     for (const char* k : {"bie_solve", "bie_block", "bie_iterations", "bie_scheme"})
-      if (s.find(k, {}) != nullptr)
-        s.fail(k, "applies to method = \"bie\" only, and this deck's method is \"" + method +
-                      "\"; expected method = \"bie\" or no " + k);
+      reject_if_given(s, k, "applies to method = \"bie\" only", "method is \"" + method + "\"", "method = \"bie\"");
 #if defined(NACRE_HAVE_KOKKOSKERNELS)
   s.string("bie_solve", D.bie_solve, {"row", "reordered", "batched", "shared_gemm"},
            "\"row\", \"reordered\", \"batched\" or \"shared_gemm\" (docs/methods.md)");
@@ -66,9 +64,9 @@ void read_dynamics(Section& top, Deck& d) {
     s.integer("bie_iterations", {}, ni, 1, 16, "1 to 16 (iterations with the constant Jacobian per step)");
     D.bie_iterations = static_cast<int>(ni);
   }
-  if (s.find("bie_block", {}) != nullptr && D.bie_solve != "reordered")
-    s.fail("bie_block", "sets the block rows of bie_solve = \"reordered\" only, and this deck's bie_solve is \"" +
-                            D.bie_solve + "\"; expected bie_solve = \"reordered\" or no bie_block");
+  if (D.bie_solve != "reordered")
+    reject_if_given(s, "bie_block", "sets the block rows of bie_solve = \"reordered\" only",
+                    "bie_solve is \"" + D.bie_solve + "\"", "bie_solve = \"reordered\"");
   s.string("bie_scheme", D.bie_scheme, {"auto", "iterate", "split"},
            "\"auto\", \"iterate\" (eq. 4.6: bie_iterations iterations with the constant Jacobian) or \"split\" (half "
            "kicks around one implicit-midpoint solve of the bricks: docs/methods.md)");
@@ -85,7 +83,6 @@ void read_dynamics(Section& top, Deck& d) {
   const bool has_e = s.find("youngs_modulus", {}) != nullptr;
   if (has_ratio && has_e)
     s.fail("youngs_modulus", "given together with stiffness_ratio; expected one of the two (E = 214.99 r N/mm^2)");
-  const auto within = [](double lo, double hi) { return [lo, hi](double v) { return v >= lo && v <= hi; }; };
   s.number("stiffness_ratio", {}, D.stiffness_ratio, within(1e-3 / 214.99, 1e7 / 214.99),
            "a ratio r in [4.7e-6, 4.7e4] (E = 214.99 r N/mm^2, from a soft gel's 1e-3 to 1e7 N/mm^2, above "
            "diamond's 1.2e6)");
@@ -96,10 +93,9 @@ void read_dynamics(Section& top, Deck& d) {
            "a density in [1e-12, 1e-7] t/mm^3 (from an aerogel's 1 kg/m^3 to above osmium's 22.6 g/cm^3; "
            "3.7 g/cm^3 = 3.7e-9)");
   s.number("thickness", {}, D.thickness, within(1e-6, 1e6), "an out-of-plane depth in [1e-6, 1e6] mm (1 nm to 1 km)");
-  if (s.find("internal_stiffness_factor", {}) != nullptr && D.method != Dynamics::Method::ue)
-    s.fail("internal_stiffness_factor",
-           "sets the internal joints of method = \"ue\" only (bolted methods have none), and this deck's method is \"" +
-               method + "\"; expected method = \"ue\" or no internal_stiffness_factor");
+  if (D.method != Dynamics::Method::ue)
+    reject_if_given(s, "internal_stiffness_factor", "sets the internal joints of method = \"ue\" only (bolted methods have none)",
+                    "method is \"" + method + "\"", "method = \"ue\"");
   s.number("internal_stiffness_factor", {}, D.internal_stiffness_factor, within(1, 1e4),
            "a factor in [1, 1e4] (internal joint stiffness = factor * E / brick_height: stiffer than the brick, "
            "about 50 in the dissertation; beyond 1e4 it only shrinks the stable step)");
@@ -147,7 +143,7 @@ void read_dynamics(Section& top, Deck& d) {
            "a relative residual in [0, 1) (0: not checked)");
   s.string("dt_mode", D.dt_mode, {"fixed", "adaptive"},
            "\"fixed\" (stop when the estimated critical step falls below dt) or \"adaptive\" (dt follows it)");
-  s.number("sliver_step_ratio", {}, D.sliver_step_ratio, [](double v) { return v >= 0 && v <= 1; },
+  s.number("sliver_step_ratio", {}, D.sliver_step_ratio, within(0, 1),
            "a fraction of the median element's step bound in [0, 1] (0: no mass scaling of slivers)");
   {
     long nq = D.quadrature_points;

@@ -61,12 +61,12 @@ void read_solver(Section& top, Deck& d) {
            "\"newton\" or \"trust-region\", not \"" +
                S.polish + "\"");
   // keys of one method given where the deck's method never reads them: refused, not ignored
-  if (S.colouring != "fastest" && s.find("presim_cycles", {}) != nullptr)
-    s.fail("presim_cycles", "times the candidates of colouring = \"fastest\" only, and this deck's colouring is \"" +
-                                S.colouring + "\"; expected colouring = \"fastest\" or no presim_cycles");
-  if (S.relaxation != "auto" && s.find("burst_cycles", {}) != nullptr)
-    s.fail("burst_cycles", "sets the Monte Carlo bursts of relaxation = \"auto\" only, and this deck's relaxation is \"" +
-                               S.relaxation + "\"; expected relaxation = \"auto\" or no burst_cycles");
+  if (S.colouring != "fastest")
+    reject_if_given(s, "presim_cycles", "times the candidates of colouring = \"fastest\" only",
+                    "colouring is \"" + S.colouring + "\"", "colouring = \"fastest\"");
+  if (S.relaxation != "auto")
+    reject_if_given(s, "burst_cycles", "sets the Monte Carlo bursts of relaxation = \"auto\" only",
+                    "relaxation is \"" + S.relaxation + "\"", "relaxation = \"auto\"");
   const bool newton = S.relaxation == "newton" || S.relaxation == "auto" || S.polish == "newton" || S.polish == "trust-region";
   for (const char* k : {"cg_iterations", "newton_preconditioner", "factor_precision"})
     if (!newton && s.find(k, {}) != nullptr)
