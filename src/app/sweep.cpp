@@ -319,7 +319,7 @@ int sweep_main(int argc, char* argv[]) {
   cli.add_option("-j,--jobs", jobs,
                  "runs at once (default 1), each on a slice of the CPUs with as many threads, its log lines in "
                  "its log.txt")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(std::size_t(1), std::size_t(65536)));
   cli.add_flag("--list", list_only,
                "write each run's deck and print one command per run that is still to do (for a "
                "scheduler's job array), then exit; run the sweep again afterwards for sweep.csv");
