@@ -50,16 +50,6 @@ deck::Deck cracking_deck() {
   return d;
 }
 
-struct Setup {
-  deck::Deck d;
-  geometry::Specimen s;
-  geometry::Interfaces f;
-};
-Setup make(deck::Deck d) {
-  Setup st{d, geometry::build_specimen(d.geometry), {}};
-  st.f = geometry::find_interfaces(st.s, d.geometry);
-  return st;
-}
 
 }  // namespace
 
@@ -72,7 +62,7 @@ TEST_CASE("elastic limit: the Monte Carlo minimum matches the exact linear solve
   d.solver.step = d.solver.min_step = d.solver.max_step = 1e-6;
   d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-6;
   d.solver.adapt_interval = 0;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   const double D = 1e-4;  // separations ~1e-5 << x1: quadratic regime
   const double exact = test::exact_elastic_energy(d, st.s, st.f, D);
   mc::Solver solver(d, st.s, st.f);
@@ -95,7 +85,7 @@ TEST_CASE("tracked energy equals the exact reduction, zero load gives zero energ
   d.solver.temperature = 1e-6;
   d.solver.step = 1e-4, d.solver.min_step = 1e-4, d.solver.max_step = 1e-4;
   d.solver.rot_step = 1e-4, d.solver.min_rot_step = 1e-4, d.solver.max_rot_step = 1e-4;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   CHECK(solver.energy() == 0.0);
   solver.set_load(0.005);
@@ -118,7 +108,7 @@ TEST_CASE("reaction = dE/dD of the relaxed energy (envelope theorem)", "[mc][phy
   d.solver.temperature = 0.0;
   d.solver.step = d.solver.min_step = d.solver.max_step = 1e-6;  // fixed, as in the elastic test
   d.solver.rot_step = d.solver.min_rot_step = d.solver.max_rot_step = 1e-6;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   // In the elastic regime E_min(D) = c D^2 exactly (linearised), so dE/dD = 2 E / D.
   mc::Solver solver(d, st.s, st.f);
   const double D = 1e-4;
@@ -217,7 +207,7 @@ TEST_CASE("a full run is repeatable and writes its fingerprint for the thread-co
   d.solver.window_mul = 10, d.solver.window_upper_mul = 40;
   const char* gen = std::getenv("NACRE_TEST_RNG");
   if (gen) d.solver.rng = gen;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   auto run = [&]() {
     mc::Solver solver(d, st.s, st.f);
     std::vector<mc::StepRecord> rows;
@@ -255,7 +245,7 @@ TEST_CASE("a run restarted from a checkpoint continues bit for bit", "[mc][resta
   for (const bool per_brick : {false, true}) {
   CAPTURE(per_brick);
   d.solver.per_brick_steps = per_brick;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   std::vector<mc::StepRecord> full;
   mc::Checkpoint cp;
   {
@@ -301,7 +291,7 @@ TEST_CASE("adaptive step size (eq. 2.7) pulls the acceptance into [0.4, 0.6] fro
     d.solver.step = start, d.solver.min_step = 1e-12, d.solver.max_step = 1e-2;
     d.solver.rot_step = start, d.solver.min_rot_step = 1e-12, d.solver.max_rot_step = 1e-2;
     d.solver.adapt_interval = 10;
-    auto st = make(d);
+    auto st = test::make_setup(d);
     mc::Solver solver(d, st.s, st.f);
     solver.set_load(1e-3);
     const long n = solver.model().n_free;
@@ -330,7 +320,7 @@ TEST_CASE("adaptive displacement backtracks a step that takes too long and still
   // the paper's criterion: with the residual one, the polish would converge every first attempt
   d.solver.convergence = "window";
   d.solver.polish = "none";
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   std::vector<mc::StepRecord> rows;
   solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });

@@ -33,7 +33,6 @@ deck::Deck newton_deck(const char* relaxation = "newton") {
   return d;
 }
 
-test::Setup make(deck::Deck d) { return test::make_setup(std::move(d)); }
 
 using Host = Kokkos::View<double* [3], Kokkos::LayoutLeft, Kokkos::HostSpace>;
 
@@ -64,7 +63,7 @@ TEST_CASE("H v is the directional derivative of the exact gradient, and H is sym
   // interface states at x +- h v are those at x): relative error ~h^2; and u.Hv = v.Hu.
   auto d = newton_deck();
   d.solver.relaxation = "monte-carlo";
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   std::vector<std::int8_t> states;
   int softening = 0, ruptured = 0;
@@ -299,7 +298,7 @@ TEST_CASE("relaxation = \"newton\" reaches the elastic minimum of the closed for
           "[mc][newton][physics]") {
   auto d = newton_deck();
   d.geometry.notch_length = 0.0;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   const double D = 1e-4;  // separations ~1e-5 << x1: quadratic regime
   const double exact = test::exact_elastic_energy(d, st.s, st.f, D);
   mc::Solver solver(d, st.s, st.f);
@@ -317,7 +316,7 @@ TEST_CASE("relaxation = \"newton\" reaches the elastic minimum of the closed for
 
 TEST_CASE("relaxation = \"newton\" follows a cracking load path, each step to the residual, deterministic",
           "[mc][newton][determinism]") {
-  auto st = make(newton_deck());
+  auto st = test::make_setup(newton_deck());
   auto run = [&](const Backend& b) {
     mc::Solver solver(b, st.d, st.s, st.f);
     std::vector<mc::StepRecord> rows;
@@ -364,7 +363,7 @@ TEST_CASE("relaxation = \"auto\" escapes the ruptured plateau where Newton stops
   d.load.final_displacement = 0.012;
   d.load.adaptive = false, d.load.predictor = deck::Load::Predictor::none;
   d.solver.burst_cycles = 500;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver newton(d, st.s, st.f);
   newton.set_load(0.012);
   REQUIRE(newton.polish("trust-region", 1e-9).converged);
@@ -389,7 +388,7 @@ TEST_CASE("the predictors: the secant moves every brick by the last increment, e
   // each predictor applied to a copy of the later poses with ratio 1/2.
   auto d = newton_deck();
   d.solver.relaxation = "monte-carlo";
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   const auto& m = solver.model();
   Kokkos::View<double* [5], Kokkos::LayoutRight, Kokkos::HostSpace> prev;
@@ -456,7 +455,7 @@ TEST_CASE("predictor = true is the secant where Newton relaxes, eq. 2.11 where a
   auto run = [&](deck::Load::Predictor kind) {
     auto d = newton_deck();
     d.load.predictor = kind;
-    auto st = make(d);
+    auto st = test::make_setup(d);
     mc::Solver solver(d, st.s, st.f);
     std::vector<mc::StepRecord> rows;
     solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });

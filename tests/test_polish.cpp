@@ -28,16 +28,6 @@ deck::Deck notched_deck() {
   return d;
 }
 
-struct Setup {
-  deck::Deck d;
-  geometry::Specimen s;
-  geometry::Interfaces f;
-};
-Setup make(const deck::Deck& d) {
-  Setup st{d, geometry::build_specimen(d.geometry), {}};
-  st.f = geometry::find_interfaces(st.s, d.geometry);
-  return st;
-}
 
 /// Largest difference between the solver's exact gradient and a central difference of its total
 /// energy, over every free brick and component, relative to the residual scales; also returns
@@ -115,7 +105,7 @@ TEST_CASE("interface_gradient is the derivative of interface_energy, in every br
 
 TEST_CASE("the residual kernel's gradient equals a central difference of the total energy",
           "[mc][gradient]") {
-  auto st = make(notched_deck());
+  auto st = test::make_setup(notched_deck());
   mc::Solver solver(st.d, st.s, st.f);
   SECTION("thermal state before any rupture") {
     solver.set_load(0.004);
@@ -147,7 +137,7 @@ TEST_CASE("the polish reaches the residual without raising the energy, the same 
     auto d = notched_deck();
     d.solver.polish = method;
     d.solver.residual_tolerance = tol;
-    auto st = make(d);
+    auto st = test::make_setup(d);
     auto once = [&](double& e0, double& e1, double& r0) {
       mc::Solver solver(d, st.s, st.f);
       solver.set_load(0.006);
@@ -177,7 +167,7 @@ TEST_CASE("the polish reaches the residual without raising the energy, the same 
 TEST_CASE("FIRE and Newton polish reach the same minimum from the same thermal state", "[mc][polish]") {
   auto d = notched_deck();
   d.solver.residual_tolerance = 1e-7;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   double e[2];
   int k = 0;
   for (const char* method : {"fire", "newton"}) {
@@ -198,7 +188,7 @@ TEST_CASE("annealing T to 0 reaches the residual and FIRE's minimum, the same bi
   auto d = notched_deck();
   d.solver.residual_tolerance = 1e-6;
   d.solver.polish_iterations = 40000;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   auto once = [&](const char* method, double& e, std::vector<double>& x) {
     mc::Solver solver(d, st.s, st.f);
     solver.set_load(0.006);
@@ -240,7 +230,7 @@ TEST_CASE("a stop request ends an anneal after its block, the run's steps restor
   d.solver.polish_iterations = 1000000;
   d.solver.adapt_interval = 20;
   d.output.hdf5 = false, d.output.charts = false;
-  const auto st = make(d);
+  const auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   solver.set_load(0.006);
   for (int c = 0; c < 100; ++c) solver.cycle();
@@ -267,7 +257,7 @@ TEST_CASE("converged run: the reaction column is dE/dD of the energy column, aft
   d.load.initial_step = d.load.min_step = d.load.max_step = 0.001;
   d.load.final_displacement = 0.03;
   d.solver.residual_tolerance = 1e-7;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   std::vector<mc::StepRecord> rows;
   solver.run([&](const mc::StepRecord& r) { rows.push_back(r); });
@@ -314,7 +304,7 @@ TEST_CASE("snap-back: an increment that ruptures many interfaces is halved, not 
   d.load.adaptive = false;
   d.load.initial_step = d.load.max_step = 0.004, d.load.min_step = 0.00025;
   d.load.final_displacement = 0.016;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   auto run = [&](int limit) {
     d.load.max_ruptures_per_step = limit;
     mc::Solver solver(d, st.s, st.f);
@@ -348,7 +338,7 @@ TEST_CASE("a temperature too high to converge is reported, not passed off as con
   d.solver.max_cycles = 300;
   d.solver.polish_iterations = 20;
   d.load.adaptive = false;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   mc::Solver solver(d, st.s, st.f);
   int completed = 0;
   solver.run([&](const mc::StepRecord&) { ++completed; });
@@ -370,7 +360,7 @@ TEST_CASE("relaxation = gradient: FIRE alone, same load stepping, the same minim
   d.load.initial_step = d.load.min_step = d.load.max_step = 0.002;
   d.load.final_displacement = 0.006;
   d.solver.residual_tolerance = 1e-9;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   auto run = [&](const char* relaxation) {
     d.solver.relaxation = relaxation;
     mc::Solver solver(d, st.s, st.f);
@@ -410,7 +400,7 @@ TEST_CASE("Monte Carlo escapes a ruptured plateau where the gradient vanishes an
   // from the notch and ends lower still.
   auto d = notched_deck();
   d.solver.residual_tolerance = 1e-8;
-  auto st = make(d);
+  auto st = test::make_setup(d);
   const double D = 0.012;
   mc::Solver a(d, st.s, st.f);
   a.set_load(D);

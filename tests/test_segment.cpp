@@ -17,7 +17,7 @@ using namespace nacre::cohesive;
 
 namespace {
 using LD = long double;
-const Law law{100.0, 0.01, 0.03};  // branch points |g| = 0.01, 0.03, 0.04 and dn = 0
+const Law seg_law{100.0, 0.01, 0.03};  // branch points |g| = 0.01, 0.03, 0.04 and dn = 0
 
 struct Ref {
   LD e = 0, f[4] = {0, 0, 0, 0};
@@ -101,7 +101,7 @@ std::vector<Gap> straddling_cases() {
   std::vector<Gap> cases;
   std::mt19937_64 gen(11);
   std::uniform_real_distribution<double> A(0.0, 6.283185307179586), U(-1.0, 1.0);
-  const double levels[] = {law.x1, law.x2, law.x1 + law.x2};
+  const double levels[] = {seg_law.x1, seg_law.x2, seg_law.x1 + seg_law.x2};
   for (double c : levels)
     for (double rel : {1e-9, 1e-6, 1e-3, 0.05, 0.4})
       for (int rep = 0; rep < 6; ++rep) {
@@ -145,9 +145,9 @@ TEST_CASE("segment integral: energy and end forces exact on every branch (1e-12 
   const double L = 1.7;
   double worst_e = 0, worst_f = 0;
   for (const Gap& g : straddling_cases()) {
-    const Ref ref = reference(law, g, L);
-    const double e = integrate(EnergyTag{}, law, g, L);
-    const EndForces f = integrate(TractionTag{}, law, g, L);
+    const Ref ref = reference(seg_law, g, L);
+    const double e = integrate(EnergyTag{}, seg_law, g, L);
+    const EndForces f = integrate(TractionTag{}, seg_law, g, L);
     const double fv[4] = {f.f0x, f.f0y, f.f1x, f.f1y};
     const double fnorm = static_cast<double>(std::sqrt(ref.f[0] * ref.f[0] + ref.f[1] * ref.f[1] +
                                                        ref.f[2] * ref.f[2] + ref.f[3] * ref.f[3]));
@@ -158,7 +158,7 @@ TEST_CASE("segment integral: energy and end forces exact on every branch (1e-12 
     worst_e = std::max(worst_e, ee);
     // relative to the forces, plus a floor at the rounding of the traction itself (a few ulps of
     // k (x1 + x2) L): near |g| = x1 + x2 the traction k (x1 + x2 - |g|) cancels
-    const double floor = 1e-15 * law.k * (law.x1 + law.x2) * L;
+    const double floor = 1e-15 * seg_law.k * (seg_law.x1 + seg_law.x2) * L;
     for (int c = 0; c < 4; ++c) {
       const double excess = std::max(0.0, std::abs(fv[c] - static_cast<double>(ref.f[c])) - floor);
       const double fe = excess > 0.0 ? excess / fnorm : 0.0;
@@ -178,10 +178,10 @@ TEST_CASE("segment integral: the old fixed 4-point rule missed by far more acros
   const Gap g{0.0, 0.0, 0.0, 0.05, 0.0, 1.0};
   const Quadrature q = gauss_legendre(4);
   double old = 0;
-  for (int k = 0; k < q.n; ++k) old += q.w[k] * law(EnergyTag{}, 0.0, q.s[k] * 0.05, 0.0, 1.0);
-  const double ref = static_cast<double>(reference(law, g, 1.0).e);
+  for (int k = 0; k < q.n; ++k) old += q.w[k] * seg_law(EnergyTag{}, 0.0, q.s[k] * 0.05, 0.0, 1.0);
+  const double ref = static_cast<double>(reference(seg_law, g, 1.0).e);
   CHECK(std::abs(old - ref) > 1e-5 * ref);
-  CHECK(integrate(EnergyTag{}, law, g, 1.0) == Catch::Approx(ref).epsilon(1e-14));
+  CHECK(integrate(EnergyTag{}, seg_law, g, 1.0) == Catch::Approx(ref).epsilon(1e-14));
 }
 
 TEST_CASE("segment integral: polynomial pieces agree with a Gauss rule that is exact for them", "[cohesive][quadrature]") {
@@ -194,12 +194,12 @@ TEST_CASE("segment integral: polynomial pieces agree with a Gauss rule that is e
     for (int k = 0; k < q.n; ++k) {
       const double s = q.s[k], gx = g.g0x + s * (g.g1x - g.g0x), gy = g.g0y + s * (g.g1y - g.g0y);
       double tx, ty;
-      law(TractionTag{}, gx, gy, g.nx, g.ny, tx, ty);
-      e += q.w[k] * law(EnergyTag{}, gx, gy, g.nx, g.ny);
+      seg_law(TractionTag{}, gx, gy, g.nx, g.ny, tx, ty);
+      e += q.w[k] * seg_law(EnergyTag{}, gx, gy, g.nx, g.ny);
       f[0] += q.w[k] * (1 - s) * tx, f[1] += q.w[k] * (1 - s) * ty, f[2] += q.w[k] * s * tx, f[3] += q.w[k] * s * ty;
     }
-    const EndForces ef = integrate(TractionTag{}, law, g, 1.0);
-    CHECK(integrate(EnergyTag{}, law, g, 1.0) == Catch::Approx(e).epsilon(1e-13));
+    const EndForces ef = integrate(TractionTag{}, seg_law, g, 1.0);
+    CHECK(integrate(EnergyTag{}, seg_law, g, 1.0) == Catch::Approx(e).epsilon(1e-13));
     const double fv[4] = {ef.f0x, ef.f0y, ef.f1x, ef.f1y};
     for (int c = 0; c < 4; ++c) CHECK(fv[c] == Catch::Approx(f[c]).epsilon(1e-12).margin(1e-18));
   }
@@ -210,7 +210,7 @@ TEST_CASE("segment integral: end forces are the gradient of the energy, across e
   const double L = 1.3;
   int checked = 0;
   for (const Gap& g : straddling_cases()) {
-    const EndForces f = integrate(TractionTag{}, law, g, L);
+    const EndForces f = integrate(TractionTag{}, seg_law, g, L);
     const double fv[4] = {f.f0x, f.f0y, f.f1x, f.f1y};
     const double scale = std::max({std::abs(g.g0x), std::abs(g.g0y), std::abs(g.g1x), std::abs(g.g1y), 1e-3});
     const double h = 1e-8 * scale;
@@ -218,7 +218,7 @@ TEST_CASE("segment integral: end forces are the gradient of the energy, across e
       Gap p = g;
       double* v[4] = {&p.g0x, &p.g0y, &p.g1x, &p.g1y};
       *v[c] += d;
-      return integrate(EnergyTag{}, law, p, L);
+      return integrate(EnergyTag{}, seg_law, p, L);
     };
     const double fnorm = std::sqrt(fv[0] * fv[0] + fv[1] * fv[1] + fv[2] * fv[2] + fv[3] * fv[3]);
     INFO("gap ends (" << g.g0x << ", " << g.g0y << ") (" << g.g1x << ", " << g.g1y << ")");
@@ -227,7 +227,7 @@ TEST_CASE("segment integral: end forces are the gradient of the energy, across e
       const double fd = (8 * (E(c, h) - E(c, -h)) - (E(c, 2 * h) - E(c, -2 * h))) / (12 * h);
       // tolerance: truncation (relative), the rounding of the energy differences (eps E / h), and
       // a stencil straddling a branch point, where the second derivative jumps by up to k L
-      CHECK(std::abs(fv[c] - fd) <= 1e-6 * fnorm + 1e-14 * std::abs(E(c, 0.0)) / h + 2 * h * law.k * L);
+      CHECK(std::abs(fv[c] - fd) <= 1e-6 * fnorm + 1e-14 * std::abs(E(c, 0.0)) / h + 2 * h * seg_law.k * L);
     }
     ++checked;
   }
@@ -237,17 +237,17 @@ TEST_CASE("segment integral: end forces are the gradient of the energy, across e
 TEST_CASE("segment integral: continuous where the elastic fast path hands over", "[cohesive][quadrature]") {
   // |g1| just below and just above x1: fast closed form on one side, the piece loop on the other
   for (double eps : {1e-13, 1e-9}) {
-    const Gap below{0.004, 0.001, law.x1 * (1 - eps), 0.0, 0.0, 1.0}, above{0.004, 0.001, law.x1 * (1 + eps), 0.0, 0.0, 1.0};
-    const double e0 = integrate(EnergyTag{}, law, below, 1.0), e1 = integrate(EnergyTag{}, law, above, 1.0);
+    const Gap below{0.004, 0.001, seg_law.x1 * (1 - eps), 0.0, 0.0, 1.0}, above{0.004, 0.001, seg_law.x1 * (1 + eps), 0.0, 0.0, 1.0};
+    const double e0 = integrate(EnergyTag{}, seg_law, below, 1.0), e1 = integrate(EnergyTag{}, seg_law, above, 1.0);
     CHECK(std::abs(e1 - e0) <= 4 * eps * e0 + 1e-17);
-    const EndForces f0 = integrate(TractionTag{}, law, below, 1.0), f1 = integrate(TractionTag{}, law, above, 1.0);
+    const EndForces f0 = integrate(TractionTag{}, seg_law, below, 1.0), f1 = integrate(TractionTag{}, seg_law, above, 1.0);
     CHECK(f1.f1x == Catch::Approx(f0.f1x).epsilon(10 * eps + 1e-14));
     CHECK(f1.f0y == Catch::Approx(f0.f0y).epsilon(10 * eps + 1e-14));
   }
   // ruptured everywhere: constant energy, no force
   const Gap broken{0.05, 0.01, 0.06, -0.02, 1.0, 0.0};  // dn > 0
-  CHECK(integrate(EnergyTag{}, law, broken, 2.0) == Catch::Approx(2.0 * law.k * law.x1 * law.x2).epsilon(1e-15));
-  const EndForces fb = integrate(TractionTag{}, law, broken, 2.0);
+  CHECK(integrate(EnergyTag{}, seg_law, broken, 2.0) == Catch::Approx(2.0 * seg_law.k * seg_law.x1 * seg_law.x2).epsilon(1e-15));
+  const EndForces fb = integrate(TractionTag{}, seg_law, broken, 2.0);
   CHECK(fb.f0x == 0.0);
   CHECK(fb.f1y == 0.0);
 }
@@ -257,11 +257,11 @@ TEST_CASE("min_separation is the exact minimum of |gap| over the whole segment",
   // 4 Gauss points all lie past rupture, yet the interface is not broken everywhere
   const Gap g{-0.2, 0.03, 0.2, 0.03, 0.0, 1.0};
   CHECK(min_separation(g) == Catch::Approx(0.03).epsilon(1e-15));
-  CHECK(min_separation(g) < law.rupture_distance());
+  CHECK(min_separation(g) < seg_law.rupture_distance());
   const Quadrature q = gauss_legendre(4);
-  for (int k = 0; k < q.n; ++k) CHECK(std::hypot(-0.2 + 0.4 * q.s[k], 0.03) > law.rupture_distance());
+  for (int k = 0; k < q.n; ++k) CHECK(std::hypot(-0.2 + 0.4 * q.s[k], 0.03) > seg_law.rupture_distance());
   // its energy counts the intact middle: below the fully ruptured k x1 x2 L
-  CHECK(integrate(EnergyTag{}, law, g, 1.0) < law.k * law.x1 * law.x2);
+  CHECK(integrate(EnergyTag{}, seg_law, g, 1.0) < seg_law.k * seg_law.x1 * seg_law.x2);
   // minimum at an end, at the foot inside, constant gap, and against dense sampling
   CHECK(min_separation({0.01, 0.0, 0.03, 0.0, 0, 1}) == 0.01);
   CHECK(min_separation({0.03, 0.01, 0.01, 0.01, 0, 1}) == Catch::Approx(std::hypot(0.01, 0.01)).epsilon(1e-15));
@@ -308,7 +308,7 @@ TEST_CASE("the energy of a segment counted on Counted: exact counts, the double'
   using nacre::flops::Counted;
   auto counted = [](const Gap& g, double L, Counted& e) {
     const BasicGap<Counted> c{g.g0x, g.g0y, g.g1x, g.g1y, g.nx, g.ny};
-    return nacre::flops::count([&] { e = integrate(EnergyTag{}, law, c, L); });
+    return nacre::flops::count([&] { e = integrate(EnergyTag{}, seg_law, c, L); });
   };
   Counted e;
   // elastic along its whole length, no penetration: |g0|^2, |g1|^2 (3 each), the closed form
@@ -318,11 +318,11 @@ TEST_CASE("the energy of a segment counted on Counted: exact counts, the double'
   CHECK(n.flops() == 21);
   CHECK(n.sqrt == 0);
   CHECK(n.transcendental == 0);
-  CHECK(e.v == integrate(EnergyTag{}, law, elastic, 0.7));
+  CHECK(e.v == integrate(EnergyTag{}, seg_law, elastic, 0.7));
   // softening at one end, penetrating at the other: pieces with square roots and the asinh mean
   const Gap softening{0.001, -0.002, 0.02, 0.025, 0.0, 1.0};
   const auto s = counted(softening, 0.7, e);
-  CHECK(e.v == integrate(EnergyTag{}, law, softening, 0.7));
+  CHECK(e.v == integrate(EnergyTag{}, seg_law, softening, 0.7));
   CHECK(s.flops() > 3 * n.flops());
   CHECK(s.sqrt >= 2);
   CHECK(s.transcendental >= 1);

@@ -37,7 +37,7 @@ void append(State& out, const View& v) {
 }
 
 /// A weak mortar (k x1 = 0.7, k x1 x2 = 0.001 N/mm): joints soften and rupture within the steps run.
-const deck::Mortar kWeak = mortar(7000, 0.7, 0.001);
+const deck::Mortar kWeakSoft = mortar(7000, 0.7, 0.001);
 
 enum class Walk { per_element, tiled, bie_unfused, bie_fused };
 
@@ -46,7 +46,7 @@ template <class ExecutionSpace>
 State run(const ExecutionSpace& space, dyn::Params p, const Setup& st, Walk walk, int steps) {
   using Mem = typename ExecutionSpace::memory_space;  // the model in the backend's own memory
   dyn::HostMap map;
-  const auto m = dyn::build_model<Mem>(p, st.s, st.f, kWeak, map);
+  const auto m = dyn::build_model<Mem>(p, st.s, st.f, kWeakSoft, map);
   const bool bie = p.method == dyn::Method::bie;
   const int ne = m.n_elem, nd = m.nd;
   dyn::DofView<Mem> u("u", ne, nd), v("v", ne, nd), a("a", ne, nd), pn("pn", ne, nd), vn("vn", ne, nd),
@@ -111,7 +111,7 @@ bool same_bits(const State& x, const State& y) {
   return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0;
 }
 
-/// A notched wall (kWeak) opened fast enough that joints soften and rupture within the steps run.
+/// A notched wall (kWeakSoft) opened fast enough that joints soften and rupture within the steps run.
 dyn::Params cracking(dyn::Method m) {
   auto p = params(500, m);
   p.rate = 20000.0;  // mm/s
@@ -121,7 +121,7 @@ dyn::Params cracking(dyn::Method m) {
   dyn::HostMap map;
   auto q = p;
   q.dt = 1.0;
-  p.dt = 0.5 * dyn::build_model(q, make(wall(8, 6, 3)).s, make(wall(8, 6, 3)).f, kWeak, map).step_estimate;
+  p.dt = 0.5 * dyn::build_model(q, make(wall(8, 6, 3)).s, make(wall(8, 6, 3)).f, kWeakSoft, map).step_estimate;
   if (m == dyn::Method::bie) p.dt *= 4;
   return p;
 }
@@ -165,8 +165,8 @@ TEMPLATE_LIST_TEST_CASE("dyn::Simulation on a chosen backend: the same state bit
   const auto st = make(wall(8, 6, 3));
   for (const auto method : {dyn::Method::be, dyn::Method::bie}) {
     const auto p = cracking(method);
-    dyn::Simulation ref(Backend(RefSpace<TestType>{}), p, st.s, st.f, kWeak),
-        sim(Backend(TestType{}), p, st.s, st.f, kWeak);
+    dyn::Simulation ref(Backend(RefSpace<TestType>{}), p, st.s, st.f, kWeakSoft),
+        sim(Backend(TestType{}), p, st.s, st.f, kWeakSoft);
     REQUIRE(ref.advance(150));
     REQUIRE(sim.advance(150));
     const auto a = ref.save_state(), b = sim.save_state();
@@ -182,7 +182,7 @@ TEMPLATE_LIST_TEST_CASE("dyn::Simulation on a chosen backend: the same state bit
 TEST_CASE("dyn backend runs crack the wall (the bit-for-bit test compares a state that moved)", "[dyn][backends]") {
   const auto st = make(wall(8, 6, 3));
   const auto p = cracking(dyn::Method::be);
-  dyn::Simulation sim(p, st.s, st.f, kWeak);
+  dyn::Simulation sim(p, st.s, st.f, kWeakSoft);
   REQUIRE(sim.advance(Kokkos::DefaultExecutionSpace{}, 300));
   CHECK(sim.energies().cohesive > 0);
   INFO("D = " << sim.displacement() << ", ruptured " << sim.ruptured());
